@@ -1,0 +1,109 @@
+"""Commands ``collide``, ``restitution`` and ``calibrate`` (non-dimensional)."""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import sys
+
+import numpy as np
+
+from ..calibration import alpha_from_e, restitution
+from ..collision import collide
+from .common import add_model_options, print_json
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("collide", help="solve one collision (non-dimensional)",
+                       description="Solve one normal collision x'' + x^(3/2) + alpha g x^p x' = 0 "
+                       "and print e, t_c, F_max, x_max, residual overlap and dissipated energy.")
+    add_model_options(p)
+    p.add_argument("--alpha", type=float, required=True, help="damping constant alpha >= 0")
+    p.add_argument("--beta", type=float, default=None, help="relaxation time / T (Jian only)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--histories", action="store_true", help="with --json: include t, x, v, f")
+    p.add_argument("--plot", metavar="FILE.png", help="save x, x', F^ against t^ and the F^-x loop")
+    p.set_defaults(handler=_collide)
+
+    p = sub.add_parser("restitution", help="e for one or more alpha values",
+                       description="Coefficient of restitution for each alpha (and beta for Jian).")
+    add_model_options(p)
+    p.add_argument("--alpha", type=float, nargs="+", required=True, help="one or more alpha >= 0")
+    p.add_argument("--beta", type=float, nargs="+", default=None,
+                   help="Jian only: one beta, or one per alpha")
+    p.add_argument("--csv", action="store_true", help="print CSV (alpha,beta,e)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(handler=_restitution)
+
+    p = sub.add_parser("calibrate", help="alpha from a measured restitution coefficient",
+                       description="Find alpha so that the law gives restitution e exactly.")
+    add_model_options(p)
+    p.add_argument("--e", type=float, required=True, help="target restitution coefficient in (0, 1]")
+    p.add_argument("--beta", type=float, default=None, help="relaxation time / T (Jian only)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(handler=_calibrate)
+
+
+def _collide(args: argparse.Namespace) -> int:
+    r = collide(args.model, args.alpha, beta=args.beta, p=args.p, end=args.end)
+    if args.plot:
+        from ..plotting import plot_collision
+
+        plot_collision([r], args.plot)
+    if args.json:
+        print_json(r.to_dict(histories=args.histories))
+        return 0
+    name = r.model + (f" (beta = {r.beta:g})" if r.beta is not None else "")
+    name += f" (p = {r.p:g})" if r.model == "power" else ""
+    print(f"{name}, alpha = {r.alpha:g}, zero-{r.end} end")
+    rows = [
+        ("restitution e", r.e), ("contact time t_c", r.tc), ("peak force F_max", r.fmax),
+        ("  at t", r.t_fmax), ("maximum overlap x_max", r.xmax), ("  at t", r.t_xmax),
+        ("residual overlap", r.residual), ("dissipated energy", r.dissipated),
+    ]
+    for label, value in rows:
+        print(f"  {label:<24} {value:.10g}")
+    if not r.separated:
+        print(f"  note: {r.status}")
+    if args.plot:
+        print(f"  plot written to {args.plot}")
+    return 0
+
+
+def _restitution(args: argparse.Namespace) -> int:
+    alpha = np.array(args.alpha)
+    beta = None
+    if args.beta is not None:
+        if len(args.beta) not in (1, len(alpha)):
+            raise ValueError(f"give one --beta or one per --alpha ({len(alpha)}); got {len(args.beta)}")
+        beta = np.broadcast_to(np.array(args.beta), alpha.shape)
+    e = np.atleast_1d(restitution(args.model, alpha, beta=beta, p=args.p, end=args.end))
+    if args.json:
+        out = {"model": args.model, "end": args.end, "alpha": alpha.tolist(), "e": e.tolist()}
+        if beta is not None:
+            out["beta"] = beta.tolist()
+        print_json(out)
+        return 0
+    writer = csv.writer(sys.stdout) if args.csv else None
+    header = ["alpha"] + (["beta"] if beta is not None else []) + ["e"]
+    if writer:
+        writer.writerow(header)
+    else:
+        print("  ".join(f"{h:>14}" for h in header))
+    for i in range(alpha.size):
+        row = [alpha[i]] + ([beta[i]] if beta is not None else []) + [e[i]]
+        if writer:
+            writer.writerow([repr(float(v)) for v in row])
+        else:
+            print("  ".join(f"{v:>14.10g}" for v in row))
+    return 0
+
+
+def _calibrate(args: argparse.Namespace) -> int:
+    a = alpha_from_e(args.model, args.e, beta=args.beta, p=args.p, end=args.end)
+    if args.json:
+        print_json({"model": args.model, "end": args.end, "e": args.e, "beta": args.beta,
+                    "p": args.p, "alpha": a})
+    else:
+        print(f"{args.model}: alpha = {a:.12g} gives e = {args.e:g} (zero-{args.end} end)")
+    return 0

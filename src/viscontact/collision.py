@@ -1,0 +1,127 @@
+"""One collision, non-dimensional: :func:`collide` and its result.
+
+SPEC sections 2, 4, 5.  Units: time in T, overlap in T v_i, speed in v_i, force in
+m* v_i / T, energy in m* v_i^2 (T = (m*^2 / (k_Hertz^2 v_i))^(1/5)).
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+import math
+from typing import Any
+
+import numpy as np
+
+from .laws import LawParams, check_finite_nonneg, resolve
+from .solvers import DEFAULT_RTOL, END_CRITERIA, SOLVERS
+
+__all__ = ["CollisionResult", "collide", "check_end", "DEFAULT_SOLVER"]
+
+DEFAULT_SOLVER = "reference"
+
+
+@dataclass
+class CollisionResult:
+    """Outcome of one non-dimensional collision.
+
+    Attributes (non-dimensional):
+        e: restitution coefficient -x'(t_c) (0 when the contact does not separate).
+        tc: contact time t_c / T (inf when the contact does not separate).
+        fmax, t_fmax: peak force F^ = F T / (m* v_i) and when it occurs.
+        xmax, t_xmax: maximum overlap x = delta / (T v_i) and when it occurs.
+        residual: overlap x(t_c) left at the end (zero-force end; 0 for zero overlap).
+        dissipated: work of the damping force, in m* v_i^2.
+        separated: False when the contact was still closing at t = T_MAX (zero-overlap end).
+        t, x, v, f: histories over the contact (v = x', f = F^), uniform in t.
+    """
+
+    model: str
+    alpha: float
+    beta: float | None
+    p: float
+    end: str
+    e: float
+    tc: float
+    fmax: float
+    t_fmax: float
+    xmax: float
+    t_xmax: float
+    residual: float
+    dissipated: float
+    separated: bool
+    t: np.ndarray = field(repr=False, default_factory=lambda: np.empty(0))
+    x: np.ndarray = field(repr=False, default_factory=lambda: np.empty(0))
+    v: np.ndarray = field(repr=False, default_factory=lambda: np.empty(0))
+    f: np.ndarray = field(repr=False, default_factory=lambda: np.empty(0))
+
+    @property
+    def status(self) -> str:
+        """A sentence a user can act on."""
+        if self.separated:
+            return "separated"
+        return (
+            "no rebound: the overlap decays without reaching zero (heavily damped, zero-overlap "
+            "criterion); e = 0 is reported. Use end='force' for the zero-force criterion."
+        )
+
+    @property
+    def energy_error(self) -> float:
+        """Energy balance 1/2 - e^2/2 - (2/5) x(t_c)^(5/2) - dissipated (SPEC section 5); ~0."""
+        return 0.5 - 0.5 * self.e**2 - 0.4 * self.residual**2.5 - self.dissipated
+
+    def to_dict(self, histories: bool = False) -> dict[str, Any]:
+        """Plain JSON-ready dict; infinities become None."""
+        d = asdict(self)
+        for key in ("t", "x", "v", "f"):
+            d.pop(key)
+            if histories:
+                d[key] = getattr(self, key).tolist()
+        d["status"] = self.status
+        return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in d.items()}
+
+
+def check_end(end: str) -> str:
+    """Validate the end-of-contact criterion."""
+    if end not in END_CRITERIA:
+        raise ValueError(f"end must be one of {', '.join(END_CRITERIA)}; got {end!r}")
+    return end
+
+
+def collide_params(
+    lp: LawParams, alpha: float, end: str = "force", *, rtol: float = DEFAULT_RTOL,
+    history: bool = True, solver: str = DEFAULT_SOLVER,
+) -> CollisionResult:
+    """:func:`collide` for an already validated law."""
+    raw = SOLVERS[solver](lp, alpha, end, rtol=rtol, detail=history)
+    hist = raw.history
+    scalars = {
+        k: float(getattr(raw, k))
+        for k in ("e", "tc", "fmax", "t_fmax", "xmax", "t_xmax", "residual", "dissipated")
+    }
+    return CollisionResult(
+        model=lp.name, alpha=alpha, beta=lp.beta if lp.law.needs_beta else None, p=lp.p, end=end,
+        separated=bool(raw.separated), **scalars,
+        **{k: hist[k] for k in ("t", "x", "v", "f") if k in hist},
+    )
+
+
+def collide(
+    model: str, alpha: float, *, beta: float | None = None, p: float | None = None,
+    end: str = "force", rtol: float = DEFAULT_RTOL, history: bool = True,
+) -> CollisionResult:
+    """Solve one normal collision exactly (to the solver tolerance).
+
+    Solves x'' + x^(3/2) + alpha g(t) x^p x' = 0, x(0) = 0, x'(0) = 1 (SPEC section 2)
+    until the force (``end="force"``, default) or the overlap (``end="overlap"``) returns
+    to zero.  ``rtol`` is the integrator's relative tolerance (default 1e-12 gives e to
+    about 1e-11).  ``history=False`` skips peak force, peak overlap and histories.
+
+    Raises ValueError for an unknown model, a negative or non-finite alpha, beta or p,
+    beta given to a law without one, or p missing for ``power``.
+    """
+    lp = resolve(model, beta=beta, p=p)
+    a = check_finite_nonneg("alpha", alpha)
+    check_end(end)
+    if not (0 < rtol < 1e-3):
+        raise ValueError(f"rtol must be in (0, 1e-3); got {rtol!r}")
+    return collide_params(lp, a, end, rtol=rtol, history=history)

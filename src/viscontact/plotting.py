@@ -1,0 +1,69 @@
+"""Plots. Reads results only; never solves anything itself."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from .collision import CollisionResult  # noqa: E402
+
+#: One colour per law, the same in every figure.
+LAW_COLORS = {
+    "LH": "#1f77b4", "Ts": "#ff7f0e", "KK": "#2ca02c", "Li": "#d62728",
+    "Hunt": "#9467bd", "Jian": "#8c564b", "power": "#7f7f7f",
+}
+
+
+def law_label(r: CollisionResult) -> str:
+    label = r.model
+    if r.beta is not None:
+        label += f", beta={r.beta:g}"
+    if r.model == "power":
+        label += f", p={r.p:g}"
+    return f"{label}, alpha={r.alpha:g}"
+
+
+def collision_axes(fig=None):
+    """A 2x2 grid: x, x', F^ against t^, and the F^-x loop, labelled."""
+    fig = fig or plt.figure(figsize=(10, 7.5))
+    axes = fig.subplots(2, 2)
+    (ax_x, ax_v), (ax_f, ax_loop) = axes
+    ax_x.set(xlabel="t^ = t / T", ylabel="x = delta / (T v_i)", title="overlap")
+    ax_v.set(xlabel="t^ = t / T", ylabel="x' = delta' / v_i", title="overlap rate")
+    ax_f.set(xlabel="t^ = t / T", ylabel="F^ = F T / (m* v_i)", title="contact force")
+    ax_loop.set(xlabel="x = delta / (T v_i)", ylabel="F^ = F T / (m* v_i)", title="force-overlap loop")
+    for ax in axes.ravel():
+        ax.grid(alpha=0.3)
+        ax.axhline(0, color="k", lw=0.6)
+    return fig, axes
+
+
+def plot_collision(results: Sequence[CollisionResult], path: str | Path, title: str | None = None,
+                   colors: Sequence[str] | None = None) -> Path:
+    """x, x', F^ against t^ and the F^-x loop for one or more collisions, saved as PNG."""
+    fig, axes = collision_axes()
+    (ax_x, ax_v), (ax_f, ax_loop) = axes
+    for i, r in enumerate(results):
+        color = colors[i] if colors else LAW_COLORS.get(r.model) if len(results) < 2 or len(
+            {q.model for q in results}) == len(results) else None
+        kw = {"color": color, "label": law_label(r)}
+        ax_x.plot(r.t, r.x, **kw)
+        ax_v.plot(r.t, r.v, **kw)
+        ax_f.plot(r.t, r.f, **kw)
+        ax_loop.plot(r.x, r.f, **kw)
+    ax_x.legend(fontsize=8)
+    if title is None and len(results) == 1:
+        r = results[0]
+        title = f"{law_label(r)}, zero-{r.end} end: e = {r.e:.4f}, t_c = {r.tc:.4f}"
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path

@@ -1,0 +1,55 @@
+"""The solver contract and its result type."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Protocol
+
+import numpy as np
+
+from ..laws import LawParams
+
+#: The two end-of-contact criteria (SPEC section 4).
+END_CRITERIA: tuple[str, ...] = ("force", "overlap")
+#: A contact still going at this non-dimensional time is reported as not separating.
+T_MAX: float = 1000.0
+#: Default relative tolerance of the step-size control; meets |e - exact| <= 1e-8.
+DEFAULT_RTOL: float = 1e-12
+
+
+@dataclass
+class Contact:
+    """Raw outcome of one non-dimensional collision (SPEC section 5).
+
+    All quantities non-dimensional: time in T, overlap in T v_i, speed in v_i,
+    force in m* v_i / T, energy in m* v_i^2.
+    """
+
+    e: float
+    tc: float
+    separated: bool
+    residual: float
+    dissipated: float
+    xmax: float = float("nan")
+    t_xmax: float = float("nan")
+    fmax: float = float("nan")
+    t_fmax: float = float("nan")
+    history: dict[str, np.ndarray] = field(default_factory=dict)
+
+
+class SolveFn(Protocol):
+    """Contract for a solver.
+
+    1. Integrate x'' = -F(x, x', t) from x = 0, x' = 1 with F from :mod:`viscontact.kernels`.
+    2. Stop at the first zero of F (``end="force"``) or of x (``end="overlap"``) after the
+       start; if neither happens before t = T_MAX, return ``separated=False, e=0, tc=inf``.
+    3. With ``detail=True`` also fill xmax, t_xmax, fmax, t_fmax and the histories
+       t, x, v, f; with ``detail=False`` only e, tc, separated, residual, dissipated.
+    """
+
+    def __call__(
+        self, lp: LawParams, alpha: float, end: str, *, rtol: float = ..., detail: bool = ...
+    ) -> Contact: ...
+
+
+SolveCallable = Callable[..., Contact]
