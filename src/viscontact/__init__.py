@@ -8,6 +8,10 @@ power law.
 
 from .calibration import ALPHA_MAX, alpha_from_e, restitution
 from .collision import CollisionResult, collide
+from .dimensional import (
+    ImpactResult, damping_coefficient, damping_constants, drop_speed, effective_mass,
+    effective_modulus, effective_radius, hertz_stiffness, impact, time_scale,
+)
 from .laws import LAWS, MODELS, STUDY_MODELS, ContactLaw
 from .solvers import END_CRITERIA, T_MAX
 
@@ -15,5 +19,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "ALPHA_MAX", "CollisionResult", "ContactLaw", "END_CRITERIA", "LAWS", "MODELS",
-    "STUDY_MODELS", "T_MAX", "alpha_from_e", "collide", "restitution", "__version__",
+    "STUDY_MODELS", "ImpactResult", "damping_coefficient", "damping_constants", "drop_speed",
+    "effective_mass", "effective_modulus", "effective_radius", "hertz_stiffness", "impact",
+    "time_scale", "T_MAX", "alpha_from_e", "collide", "restitution", "__version__",
 ]
