@@ -15,7 +15,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 
-from ..kernels import force_s, rhs_sigma
+from ..kernels import damping_s, force_s, rhs_sigma, spring_s
 from ..laws import LawParams
 from .base import DEFAULT_RTOL, T_MAX, Contact
 
@@ -47,9 +47,15 @@ def solve_reference(
     ]
     if end == "force" and alpha > 0:  # undamped: F = 0 only where x = 0
         q = min(m * p, 1.5 * m)
-        events.append(
-            _event(lambda _s, y: force_s(y[0], y[1], y[2], alpha, beta, p, m, q), True, -1.0)
-        )
+
+        def zero_force(_s, y):
+            # F / s^q with the spring term continued oddly through s = 0, so the function
+            # changes sign exactly once near the end even when a step jumps past x = 0.
+            a_s = abs(y[0])
+            spring = math.copysign(spring_s(a_s, m, q), y[0])
+            return spring + damping_s(a_s, y[1], y[2], alpha, beta, p, m, q)
+
+        events.append(_event(zero_force, True, -1.0))
     # Jian with tiny beta switches damping on at t ~ beta: do not step over it.
     first = 1e-2 if beta <= 0 else min(1e-2, 0.1 * beta ** (1.0 / m))
     sol = solve_ivp(
