@@ -74,6 +74,7 @@ def taylor_reference(p: float, alpha: float, beta: float, end: str, t_stop: floa
         h = mp.mpf("0.02")
         sig = h
         while fn(sig) >= 0:
+            h = mp.mpf("0.02") * (1 + sig)  # sigma runs fast once the contact creeps
             sig += h
             if sol(sig)[2] > t_stop:
                 return None

@@ -75,12 +75,12 @@ TAYLOR_CASES = [
 @pytest.mark.parametrize("model, beta, alpha", TAYLOR_CASES)
 def test_against_high_precision_taylor_solution(model, beta, alpha, end):
     p = 0.75 if model == "power" else vc.LAWS[model].p
-    ref = taylor_reference(p, alpha, beta, end)
+    ref = taylor_reference(p, alpha, beta, end, t_stop=20.0)
     kwargs = {"beta": beta} if model == "Jian" else {"p": p} if model == "power" else {}
     r = vc.collide(model, alpha, end=end, history=False, **kwargs)
-    if ref is None:  # no end before t = 100: only the zero-overlap end may do that
+    if ref is None:  # still in contact at t = 20: only the zero-overlap end may do that
         assert end == "overlap"
-        assert not r.separated or r.tc > 100
+        assert not r.separated or r.tc > 20
         return
     assert r.separated
     assert abs(r.e - ref[0]) <= E_TOL
