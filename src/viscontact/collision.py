@@ -15,7 +15,7 @@ import numpy as np
 from .laws import LawParams, check_finite_nonneg, resolve
 from .solvers import DEFAULT_RTOL, END_CRITERIA, SOLVERS
 
-__all__ = ["CollisionResult", "collide", "check_end", "DEFAULT_SOLVER"]
+__all__ = ["CollisionResult", "collide", "check_end", "result_dict", "DEFAULT_SOLVER"]
 
 DEFAULT_SOLVER = "reference"
 
@@ -71,13 +71,17 @@ class CollisionResult:
 
     def to_dict(self, histories: bool = False) -> dict[str, Any]:
         """Plain JSON-ready dict; infinities become None."""
-        d = asdict(self)
-        for key in ("t", "x", "v", "f"):
-            d.pop(key)
-            if histories:
-                d[key] = getattr(self, key).tolist()
-        d["status"] = self.status
-        return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in d.items()}
+        return result_dict(self, ("t", "x", "v", "f"), histories) | {"status": self.status}
+
+
+def result_dict(result: Any, history_keys: tuple[str, ...], histories: bool) -> dict[str, Any]:
+    """A result dataclass as a JSON-ready dict: histories as lists (or left out), inf as None."""
+    d = asdict(result)
+    for key in history_keys:
+        d.pop(key)
+        if histories:
+            d[key] = getattr(result, key).tolist()
+    return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in d.items()}
 
 
 def check_end(end: str) -> str:

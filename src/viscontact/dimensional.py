@@ -21,12 +21,12 @@ F_d = c (1 - exp(-t/tau)) delta^(1/2) delta', tau = beta T):
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from .collision import CollisionResult, check_end, collide
+from .collision import CollisionResult, check_end, collide, result_dict
 from .laws import check_finite_nonneg, lookup, resolve
 
 __all__ = [
@@ -60,22 +60,23 @@ def _check_poisson(name: str, nu: float) -> float:
     return v
 
 
+def _harmonic_pair(name: str, a: float, b: float | None) -> float:
+    """a b / (a + b), validated; b = None (a wall) gives a."""
+    a = check_positive(name, a)
+    if b is None:
+        return a
+    b = check_positive(f"second {name}", b)
+    return a * b / (a + b)
+
+
 def effective_mass(m1: float, m2: float | None = None) -> float:
     """m* = m1 m2 / (m1 + m2) [kg]; ``m2=None`` (a fixed wall) gives m1."""
-    a = check_positive("mass", m1)
-    if m2 is None:
-        return a
-    b = check_positive("second mass", m2)
-    return a * b / (a + b)
+    return _harmonic_pair("mass", m1, m2)
 
 
 def effective_radius(r1: float, r2: float | None = None) -> float:
     """R* = R1 R2 / (R1 + R2) [m]; ``r2=None`` (a flat wall) gives R1."""
-    a = check_positive("radius", r1)
-    if r2 is None:
-        return a
-    b = check_positive("second radius", r2)
-    return a * b / (a + b)
+    return _harmonic_pair("radius", r1, r2)
 
 
 def effective_modulus(e1: float, nu1: float, e2: float | None = None, nu2: float | None = None) -> float:
@@ -188,12 +189,8 @@ class ImpactResult:
     force: np.ndarray = field(repr=False, default_factory=lambda: np.empty(0))
 
     def to_dict(self, histories: bool = False) -> dict[str, Any]:
-        d = asdict(self)
-        for key in ("t", "delta", "ddelta", "force"):
-            d.pop(key)
-            if histories:
-                d[key] = getattr(self, key).tolist()
-        return {k: (None if isinstance(x, float) and not math.isfinite(x) else x) for k, x in d.items()}
+        """Plain JSON-ready dict; infinities become None."""
+        return result_dict(self, ("t", "delta", "ddelta", "force"), histories)
 
 
 def to_physical(r: CollisionResult, *, m_eff: float, k_hertz: float, v: float, c: float,
