@@ -20,7 +20,7 @@ from .laws import STUDY_MODELS
 from .sweep import SweepResult, study_speeds, velocity_sweep
 
 __all__ = [
-    "ALPHA_GRID", "BETA_GRID", "TABLE1_MODELS", "ALPHA_REF", "BETA_REF", "SERIES_ALPHAS",
+    "ALPHA_GRID", "PUBLISHED_E", "BETA_GRID", "TABLE1_MODELS", "ALPHA_REF", "BETA_REF", "SERIES_ALPHAS",
     "FIG6_BETAS", "BallStudy", "StudyResults", "run_study", "STEPS",
 ]
 
@@ -37,6 +37,10 @@ TABLE1_MODELS: tuple[str, ...] = ("LH", "Ts", "KK", "Li", "Hunt")
 #: Fig. 2 and Fig. 6: alpha; Fig. 2: Jian's beta
 ALPHA_REF = 0.3
 BETA_REF = 0.5
+#: e at alpha = 0.3 as published (zero-force end; Jian with beta = 0.5), SPEC section 6
+PUBLISHED_E: dict[str, float] = {
+    "LH": 0.6207, "Ts": 0.6778, "KK": 0.7221, "Li": 0.7890, "Hunt": 0.8329, "Jian": 0.7622,
+}
 #: Figs. 3-5: the alpha values drawn for each law
 SERIES_ALPHAS: tuple[float, ...] = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)
 #: Fig. 6: Jian's beta values at alpha = 0.3 (beta -> 0 drawn as beta = 0, i.e. KK)
