@@ -58,7 +58,7 @@ def check_poisson(name: str, nu: float) -> float:
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a number, got {nu!r}") from None
     if not (-1.0 < v <= 0.5):
-        raise ValueError(f"{name} (Poisson ratio) must be in (-1, 0.5], got {nu!r}")
+        raise ValueError(f"{name} must be in (-1, 0.5], got {nu!r}")
     return v
 
 
