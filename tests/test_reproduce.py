@@ -188,7 +188,9 @@ def test_read_only_parent_exit_2(tmp_path, capsys):
     ro.mkdir()
     ro.chmod(0o555)
     try:
-        assert vc.cli.main(["reproduce", "--out", str(ro / "rep"), "--quiet"]) == 2
+        from viscontact.cli import main
+
+        assert main(["reproduce", "--out", str(ro / "rep"), "--quiet"]) == 2
         assert list(ro.iterdir()) == []
     finally:
         ro.chmod(0o755)

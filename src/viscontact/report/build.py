@@ -52,7 +52,8 @@ class _Progress:
         if stream is not None and stream.isatty():
             from tqdm import tqdm
 
-            self.bar = tqdm(total=total, file=stream, unit="step", leave=True,
+            width = min(shutil.get_terminal_size((100, 20)).columns, 110)
+            self.bar = tqdm(total=total, file=stream, unit="step", leave=True, ncols=width,
                             bar_format="{desc:<44} {bar} {n_fmt}/{total_fmt} [{elapsed}]")
 
     def __call__(self, name: str, weight: int = 1) -> None:
@@ -68,6 +69,7 @@ class _Progress:
 
     def close(self) -> None:
         if self.bar is not None:
+            self.bar.set_description_str("done")
             self.bar.update(self.total - self.bar.n)
             self.bar.close()
 

@@ -40,7 +40,7 @@ def _published_check(res: StudyResults) -> str:
                     f'<td class="n">{pub:.4f}</td><td class="n">{ours:.6f}</td>'
                     f"<td>{'yes' if round(float(ours), 4) == pub else 'NO'}</td></tr>")
     return ('<table id="published"><caption><b>Check against the published values.</b> e at '
-            "alpha = 0.3, zero-force end (SPEC section 6).</caption><thead><tr><th>law</th>"
+            "alpha = 0.3, zero-force end, as published by Jian et al. (2019).</caption><thead><tr><th>law</th>"
             "<th>published</th><th>this report</th><th>agrees to 4 decimals</th></tr></thead>"
             "<tbody>" + "".join(rows) + "</tbody></table>")
 
@@ -66,7 +66,7 @@ def render_index(res: StudyResults, tables: list[Table], version: str) -> str:
 735-749 (doi:10.1016/j.powtec.2019.08.110) with <code>viscontact {e(version)}</code>,
 generated {e(stamp)} by <code>viscontact reproduce</code>. Every collision is solved to a
 relative tolerance of 1e-12; the contact ends when the force returns to zero.
-Data: {e(data_source())}.</p>
+Data: {e(data_source().rstrip('.'))}.</p>
 <p>Tables as files: {files}.</p>
 
 <h2>Comparison with the drop tests</h2>
