@@ -144,3 +144,13 @@ def test_bad_input_is_a_value_error(call):
 def test_poisson_range_is_half_open():
     assert vc.effective_modulus(1e6, 0.5) == pytest.approx(1e6 / 0.75)
     assert vc.effective_modulus(1e6, -0.99) > 0
+
+
+def test_hertz_limit_closed_form_matches_the_solver():
+    from viscontact.dimensional import HERTZ_TC, HERTZ_XMAX, hertz_limit
+
+    assert HERTZ_TC == pytest.approx(T_UNDAMPED, abs=1e-10)
+    assert HERTZ_XMAX == pytest.approx(X_MAX, abs=1e-10)
+    tc, dmax, fmax = hertz_limit(M, K, 0.8)
+    r = vc.impact("LH", m_eff=M, k_hertz=K, v=0.8, c=0.0)
+    assert (r.tc, r.dmax, r.fmax) == pytest.approx((tc, dmax, fmax), rel=1e-7)

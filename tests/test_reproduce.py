@@ -170,15 +170,18 @@ def test_failure_leaves_nothing(tmp_path, monkeypatch):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_unwritable_directory_exit_2(tmp_path):
+def test_unwritable_directory_exit_2(tmp_path, capsys):
+    from viscontact.cli import main
+
     blocker = tmp_path / "file"
     blocker.write_text("a file, not a directory\n")
-    for out in (blocker / "rep", blocker):
-        proc = run_cli("reproduce", "--out", out, "--quiet", cwd=tmp_path)
-        assert proc.returncode == 2
-        assert len(proc.stderr.strip().splitlines()) == 1, proc.stderr
-        assert "viscontact reproduce: error:" in proc.stderr
+    for out in (blocker / "rep", blocker / "a" / "rep", blocker):
+        assert main(["reproduce", "--out", str(out), "--quiet"]) == 2
+        err = capsys.readouterr().err
+        assert len(err.strip().splitlines()) == 1, err
+        assert err.startswith("viscontact reproduce: error:")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["file"]
+    assert blocker.read_text() == "a file, not a directory\n"
 
 
 @pytest.mark.skipif(hasattr(os, "geteuid") and os.geteuid() == 0,

@@ -33,7 +33,7 @@ __all__ = [
     "effective_mass", "effective_radius", "effective_modulus", "hertz_stiffness",
     "time_scale", "damping_coefficient", "damping_constants", "impact", "ImpactResult",
     "check_positive", "check_poisson", "drop_speed", "STANDARD_GRAVITY", "ContactPair",
-    "contact_pair", "damping_unit",
+    "contact_pair", "damping_unit", "hertz_limit", "HERTZ_TC", "HERTZ_XMAX",
 ]
 
 #: g used for drop heights [m/s^2]; the study used 9.81 (981 cm/s^2).
@@ -145,6 +145,22 @@ def damping_unit(p: float) -> str:
     if p == 0:
         return "kg/s"
     return f"N s/m^{1 + p:g}"
+
+
+#: undamped contact time t_c / T = (4/5)^(3/5) sqrt(pi) Gamma(2/5) / Gamma(9/10) (SPEC section 2)
+HERTZ_TC = (0.8 ** 0.6) * math.sqrt(math.pi) * math.gamma(0.4) / math.gamma(0.9)
+#: undamped maximum overlap delta_max / (T v_i) = (5/4)^(2/5)
+HERTZ_XMAX = 1.25 ** 0.4
+
+
+def hertz_limit(m_eff: float, k_hertz: float, v: float) -> tuple[float, float, float]:
+    """The undamped (elastic Hertz) impact in closed form: (t_c [s], delta_max [m], F_max [N]).
+
+    t_c = 3.2180654597 T, delta_max = (5 m* v^2 / (4 k_Hertz))^(2/5), F_max = k_Hertz delta_max^(3/2).
+    """
+    T = time_scale(m_eff, k_hertz, v)
+    dmax = (5.0 * m_eff * v * v / (4.0 * k_hertz)) ** 0.4
+    return HERTZ_TC * T, dmax, k_hertz * dmax ** 1.5
 
 
 def drop_speed(height: float, g: float = STANDARD_GRAVITY) -> float:

@@ -18,6 +18,9 @@ LAW_COLORS = {
     "Hunt": "#9467bd", "Jian": "#8c564b", "power": "#7f7f7f",
 }
 
+#: One marker per law, for curves that lie close together (sweeps, e against alpha).
+LAW_MARKERS = {"LH": "o", "Ts": "s", "KK": "^", "Li": "v", "Hunt": "D", "Jian": "P", "power": "x"}
+
 
 def law_label(r: CollisionResult) -> str:
     label = r.model

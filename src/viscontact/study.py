@@ -14,7 +14,7 @@ import numpy as np
 
 from .calibration import restitution
 from .collision import CollisionResult, collide
-from .dimensional import ImpactResult, impact
+from .dimensional import ImpactResult, hertz_limit, impact
 from .experiment import Ball, PhysicalCalibration, calibrate_ball, load_balls
 from .laws import STUDY_MODELS
 from .sweep import SweepResult, study_speeds, velocity_sweep
@@ -62,12 +62,17 @@ def _beta_kw(model: str, beta: float) -> dict[str, float]:
 
 @dataclass
 class BallStudy:
-    """One ball: its calibration per law, the simulated drop, and the velocity sweep."""
+    """One ball: its calibration per law, the simulated drop, and the velocity sweep.
+
+    ``hertz_tc`` [s] and ``hertz_fmax`` [N]: the undamped impact at each sweep speed.
+    """
 
     ball: Ball
     calibrations: dict[str, PhysicalCalibration]
     drops: dict[str, ImpactResult]
     sweeps: dict[str, SweepResult]
+    hertz_tc: np.ndarray = field(default_factory=lambda: np.empty(0))
+    hertz_fmax: np.ndarray = field(default_factory=lambda: np.empty(0))
 
 
 @dataclass
@@ -127,6 +132,8 @@ def run_study(step: Callable[[str], None] | None = None, *, n_speeds: int = 24) 
                               tau=cal.tau)
             sweeps[m] = velocity_sweep(m, speeds, m_eff=cal.m_eff, k_hertz=cal.k_hertz, c=cal.c,
                                        tau=cal.tau)
-        studies[key] = BallStudy(ball=b, calibrations=cals[key], drops=drops, sweeps=sweeps)
+        hertz = np.array([hertz_limit(b.m_eff, b.k_hertz, v) for v in speeds])
+        studies[key] = BallStudy(ball=b, calibrations=cals[key], drops=drops, sweeps=sweeps,
+                                 hertz_tc=hertz[:, 0], hertz_fmax=hertz[:, 2])
     return StudyResults(alpha_grid=grid, table1=table1, table2=table2, reference=reference,
                         series=series, jian_betas=jian_betas, balls=studies, speeds=speeds)

@@ -14,7 +14,7 @@ import numpy as np
 from matplotlib import colors as mcolors
 
 from ..laws import LAWS, STUDY_MODELS
-from ..plotting import LAW_COLORS, plt
+from ..plotting import LAW_COLORS, LAW_MARKERS, plt
 from ..study import (
     ALPHA_REF, BETA_GRID, BETA_REF, FIG6_BETAS, PUBLISHED_E, TABLE1_MODELS, BallStudy, StudyResults,
 )
@@ -167,7 +167,8 @@ def fig07(res: StudyResults, path: Path) -> None:
     fig, (ax_a, ax_b) = plt.subplots(1, 2, figsize=(14.5, 5.5), sharey=True)
     a = res.alpha_grid
     for m in TABLE1_MODELS:
-        ax_a.plot(a, res.table1[m], "-o", ms=3, color=LAW_COLORS[m], label=law_name(m))
+        ax_a.plot(a, res.table1[m], "-", marker=LAW_MARKERS[m], ms=3.5, color=LAW_COLORS[m],
+                  label=law_name(m))
     cols = shades("Jian", len(BETA_GRID))
     for b, c in zip(BETA_GRID, cols):
         ax_b.plot(a, res.table2[b], "-o", ms=3, color=c,
@@ -247,7 +248,12 @@ def _sweep_figure(res: StudyResults, path: Path, number: int, what: str) -> None
                    label=f"calibration speed {b.v_in * 100:.1f} cm/s")
         for m, s in bs.sweeps.items():
             ax.plot(s.v * 100, getattr(s, what) * scale, color=LAW_COLORS[m], lw=1.8,
+                    marker=LAW_MARKERS[m], ms=5, markevery=(STUDY_MODELS.index(m) % 3, 3),
                     label=law_name(m))
+        if what in ("tc", "fmax"):
+            ref = bs.hertz_tc * 1e3 if what == "tc" else bs.hertz_fmax
+            ax.plot(res.speeds * 100, ref, color="0.45", ls="--", lw=1.2,
+                    label="no damping (Hertz, closed form)")
         if measured is not None:
             ax.plot([b.v_in * 100], [measured(b)], **MEASURED, label="measured at 171.6 cm/s")
         ax.set(xlabel="impact speed v_i [cm/s]", ylabel=label,
@@ -259,7 +265,7 @@ def _sweep_figure(res: StudyResults, path: Path, number: int, what: str) -> None
     fig.suptitle(f"Fig. {number}. {quantity}{note} against impact speed, with m*, k_Hertz, c and "
                  "tau held at their 171.6 cm/s calibration", fontsize=12)
     handles, labels = axes[0].get_legend_handles_labels()
-    order = list(range(2, len(labels))) + [0, 1]  # laws first, then the markers
+    order = list(range(2, len(labels))) + [0, 1]  # laws first, then the reference marks
     _finish(fig, path, ([handles[i] for i in order], [labels[i] for i in order]), ncol=4,
             rect_bottom=0.13)
 
