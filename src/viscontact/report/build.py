@@ -154,6 +154,8 @@ def reproduce(out: str | os.PathLike = DEFAULT_OUT, *, force: bool = False,
     """
     from .. import __version__
 
+    if not str(out).strip():
+        raise ReportError("--out must name a directory")
     out = Path(out)
     old_files = _check_target(out, force)
     created: list[Path] = []
