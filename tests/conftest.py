@@ -1,12 +1,40 @@
+"""Shared fixtures: run the command line in a subprocess, build one report per session."""
+
+import os
+import subprocess
 import sys
+import time
 from pathlib import Path
 
+import pytest
 from hypothesis import HealthCheck, settings
 
-sys.path.insert(0, str(Path(__file__).parent))
+import viscontact
+
+sys.path.insert(0, str(Path(__file__).parent))  # tests/references.py
 
 settings.register_profile(
     "viscontact", deadline=None, max_examples=25,
     suppress_health_check=[HealthCheck.too_slow],
 )
 settings.load_profile("viscontact")
+
+SRC = str(Path(viscontact.__file__).resolve().parents[1])
+
+
+def run_cli(*args, cwd=None, timeout=300):
+    """``python -m viscontact ARGS`` with this checkout's package; CompletedProcess."""
+    env = dict(os.environ, PYTHONPATH=SRC + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    return subprocess.run([sys.executable, "-m", "viscontact", *map(str, args)], cwd=cwd, env=env,
+                          capture_output=True, text=True, timeout=timeout)
+
+
+@pytest.fixture(scope="session")
+def report(tmp_path_factory):
+    """One full ``viscontact reproduce`` run: (report directory, seconds it took, process)."""
+    base = tmp_path_factory.mktemp("report")
+    t0 = time.perf_counter()
+    proc = run_cli("reproduce", cwd=base)
+    seconds = time.perf_counter() - t0
+    assert proc.returncode == 0, proc.stderr
+    return base / "viscontact-report", seconds, proc

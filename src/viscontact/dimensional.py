@@ -13,9 +13,9 @@ Two bodies (or a body on a wall) give
 and the physical damping prefactor for exponent p (F_d = c delta^p delta', Jian:
 F_d = c (1 - exp(-t/tau)) delta^(1/2) delta', tau = beta T):
 
-    c = alpha m*^((3-2p)/5) v_i^((1-4p)/5) k_Hertz^((2+2p)/5)   [kg s^(p-1) m^(-p) ... ]
+    c = alpha m*^((3-2p)/5) v_i^((1-4p)/5) k_Hertz^((2+2p)/5)   [N s / m^(1+p)]
 
-(SI units of c: N s / m^(1+p)).
+(LH: c = gamma m* in kg/s; Hunt: c = lambda = alpha k_Hertz / v_i in N s / m^(5/2)).
 """
 
 from __future__ import annotations
@@ -32,7 +32,8 @@ from .laws import check_finite_nonneg, lookup, resolve
 __all__ = [
     "effective_mass", "effective_radius", "effective_modulus", "hertz_stiffness",
     "time_scale", "damping_coefficient", "damping_constants", "impact", "ImpactResult",
-    "check_positive", "drop_speed", "STANDARD_GRAVITY",
+    "check_positive", "check_poisson", "drop_speed", "STANDARD_GRAVITY", "ContactPair",
+    "contact_pair", "damping_unit", "hertz_limit", "HERTZ_TC", "HERTZ_XMAX",
 ]
 
 #: g used for drop heights [m/s^2]; the study used 9.81 (981 cm/s^2).
@@ -50,13 +51,14 @@ def check_positive(name: str, value: float) -> float:
     return v
 
 
-def _check_poisson(name: str, nu: float) -> float:
+def check_poisson(name: str, nu: float) -> float:
+    """``nu`` as float, or ValueError if it is not a Poisson ratio in (-1, 0.5]."""
     try:
         v = float(nu)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a number, got {nu!r}") from None
     if not (-1.0 < v <= 0.5):
-        raise ValueError(f"{name} (Poisson ratio) must be in (-1, 0.5], got {nu!r}")
+        raise ValueError(f"{name} must be in (-1, 0.5], got {nu!r}")
     return v
 
 
@@ -82,10 +84,10 @@ def effective_radius(r1: float, r2: float | None = None) -> float:
 def effective_modulus(e1: float, nu1: float, e2: float | None = None, nu2: float | None = None) -> float:
     """E* from 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 [Pa]; ``e2=None``: a rigid wall."""
     a = check_positive("Young's modulus", e1)
-    inv = (1.0 - _check_poisson("Poisson ratio", nu1) ** 2) / a
+    inv = (1.0 - check_poisson("Poisson ratio", nu1) ** 2) / a
     if e2 is not None:
         b = check_positive("second Young's modulus", e2)
-        inv += (1.0 - _check_poisson("second Poisson ratio", 0.0 if nu2 is None else nu2) ** 2) / b
+        inv += (1.0 - check_poisson("second Poisson ratio", 0.0 if nu2 is None else nu2) ** 2) / b
     return 1.0 / inv
 
 
@@ -93,6 +95,73 @@ def hertz_stiffness(e_eff: float, r_eff: float) -> float:
     """k_Hertz = (4/3) E* sqrt(R*) [N/m^1.5] (Hertz 1882)."""
     return 4.0 / 3.0 * check_positive("effective modulus", e_eff) * math.sqrt(
         check_positive("effective radius", r_eff))
+
+
+@dataclass(frozen=True)
+class ContactPair:
+    """Effective properties of one contact (SPEC section 1), SI units.
+
+    Attributes:
+        m_eff: m* [kg]; r_eff: R* [m] (None when only k_Hertz was given);
+        e_eff: E* [Pa] (None when k_Hertz was given directly); k_hertz: k_Hertz [N/m^1.5].
+    """
+
+    m_eff: float
+    k_hertz: float
+    r_eff: float | None = None
+    e_eff: float | None = None
+
+
+def contact_pair(
+    mass: float, *, radius: float | None = None, k_hertz: float | None = None,
+    modulus: float | None = None, poisson: float | None = None, mass2: float | None = None,
+    radius2: float | None = None, modulus2: float | None = None, poisson2: float | None = None,
+) -> ContactPair:
+    """m*, R*, E* and k_Hertz of a sphere hitting a second sphere or a wall.
+
+    Give either ``k_hertz`` [N/m^1.5] directly, or ``modulus`` E [Pa] and ``poisson`` nu with
+    ``radius`` [m].  Second body: ``mass2`` (None: a fixed wall), ``radius2`` (None: a flat),
+    ``modulus2``/``poisson2`` (None: a rigid wall).  ValueError names what is missing or wrong.
+    """
+    m_eff = effective_mass(mass, mass2)
+    r_eff = None if radius is None else effective_radius(radius, radius2)
+    if radius is None and radius2 is not None:
+        raise ValueError("a second radius needs the first radius too")
+    if k_hertz is not None:
+        if modulus is not None or poisson is not None or modulus2 is not None:
+            raise ValueError("give either k_Hertz or the elastic constants (E, nu), not both")
+        return ContactPair(m_eff=m_eff, k_hertz=check_positive("k_Hertz", k_hertz), r_eff=r_eff)
+    if modulus is None or poisson is None:
+        raise ValueError("give k_Hertz, or Young's modulus E and Poisson ratio nu (with the radius)")
+    if modulus2 is not None and poisson2 is None:
+        raise ValueError("the second body's modulus needs its Poisson ratio too")
+    e_eff = effective_modulus(modulus, poisson, modulus2, poisson2)
+    if r_eff is None:
+        raise ValueError("k_Hertz from E and nu needs the radius")
+    return ContactPair(m_eff=m_eff, k_hertz=hertz_stiffness(e_eff, r_eff), r_eff=r_eff, e_eff=e_eff)
+
+
+def damping_unit(p: float) -> str:
+    """SI unit of the damping prefactor c for exponent p: N s / m^(1+p) (LH: kg/s)."""
+    if p == 0:
+        return "kg/s"
+    return f"N s/m^{1 + p:g}"
+
+
+#: undamped contact time t_c / T = (4/5)^(3/5) sqrt(pi) Gamma(2/5) / Gamma(9/10) (SPEC section 2)
+HERTZ_TC = (0.8 ** 0.6) * math.sqrt(math.pi) * math.gamma(0.4) / math.gamma(0.9)
+#: undamped maximum overlap delta_max / (T v_i) = (5/4)^(2/5)
+HERTZ_XMAX = 1.25 ** 0.4
+
+
+def hertz_limit(m_eff: float, k_hertz: float, v: float) -> tuple[float, float, float]:
+    """The undamped (elastic Hertz) impact in closed form: (t_c [s], delta_max [m], F_max [N]).
+
+    t_c = 3.2180654597 T, delta_max = (5 m* v^2 / (4 k_Hertz))^(2/5), F_max = k_Hertz delta_max^(3/2).
+    """
+    T = time_scale(m_eff, k_hertz, v)
+    dmax = (5.0 * m_eff * v * v / (4.0 * k_hertz)) ** 0.4
+    return HERTZ_TC * T, dmax, k_hertz * dmax ** 1.5
 
 
 def drop_speed(height: float, g: float = STANDARD_GRAVITY) -> float:

@@ -18,6 +18,9 @@ LAW_COLORS = {
     "Hunt": "#9467bd", "Jian": "#8c564b", "power": "#7f7f7f",
 }
 
+#: One marker per law, for curves that lie close together (sweeps, e against alpha).
+LAW_MARKERS = {"LH": "o", "Ts": "s", "KK": "^", "Li": "v", "Hunt": "D", "Jian": "P", "power": "x"}
+
 
 def law_label(r: CollisionResult) -> str:
     label = r.model
@@ -65,5 +68,35 @@ def plot_collision(results: Sequence[CollisionResult], path: str | Path, title: 
     fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def plot_sweeps(sweeps: Sequence, path: str | Path, title: str | None = None,
+                measured: tuple[float, float, float] | None = None) -> Path:
+    """e, t_c [ms] and F_max [N] against impact speed [cm/s] for one or more velocity sweeps.
+
+    ``sweeps``: :class:`viscontact.sweep.SweepResult` objects; ``measured``: optional
+    (v [m/s], e, t_c [s]) drawn as black stars.
+    """
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.8))
+    specs = (("e", 1.0, "coefficient of restitution e"), ("tc", 1e3, "contact time t_c [ms]"),
+             ("fmax", 1.0, "peak force F_max [N]"))
+    for ax, (attr, scale, label) in zip(axes, specs):
+        for s in sweeps:
+            lab = s.model + (f", p={s.p:g}" if s.model == "power" else "")
+            ax.plot(s.v * 100, getattr(s, attr) * scale, "-o", ms=3, color=LAW_COLORS.get(s.model),
+                    label=lab)
+        ax.set(xlabel="impact speed v_i [cm/s]", ylabel=label)
+        ax.grid(alpha=0.3)
+    if measured is not None:
+        v, e, tc = measured
+        axes[0].plot([v * 100], [e], "k*", ms=12, label="measured")
+        axes[1].plot([v * 100], [tc * 1e3], "k*", ms=12)
+    axes[0].legend(fontsize=8)
+    fig.suptitle(title or "Velocity sweep: m*, k_Hertz, c and tau held fixed")
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=110)
     plt.close(fig)
     return path

@@ -11,11 +11,11 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from . import core
+from . import core, physical
 
 __all__ = ["main", "COMMANDS", "UserError"]
 
-COMMANDS = (core,)
+COMMANDS = (core, physical)
 
 
 class UserError(Exception):

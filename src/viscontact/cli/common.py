@@ -5,16 +5,21 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 from ..laws import MODELS
 from ..solvers import END_CRITERIA
 
 
-def add_model_options(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--model", required=True, metavar="NAME",
-                        help=f"contact law: one of {', '.join(MODELS)}")
+def add_model_options(parser: argparse.ArgumentParser, required: bool = True,
+                      model_help: str = "") -> None:
+    parser.add_argument("--model", required=required, metavar="NAME",
+                        help=f"contact law: one of {', '.join(MODELS)}{model_help}")
     parser.add_argument("--p", type=float, default=None,
                         help="damping exponent, only for --model power (p >= 0)")
     parser.add_argument("--end", choices=END_CRITERIA, default="force",
@@ -35,3 +40,28 @@ def finite_json(obj: Any) -> Any:
 def print_json(obj: Any) -> None:
     json.dump(finite_json(obj), sys.stdout, indent=2)
     sys.stdout.write("\n")
+
+
+def write_atomic(path: str, write: Callable[[Path], None]) -> None:
+    """Write a file through a temporary sibling so a failure leaves no partial file.
+
+    ``write(tmp_path)`` creates the content; the temporary file keeps ``path``'s suffix.
+    """
+    target = Path(path)
+    if target.is_dir():
+        raise ValueError(f"{path} is a directory; give a file name")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=target.suffix,
+                                   dir=target.parent if str(target.parent) else ".")
+    except OSError as exc:
+        raise ValueError(f"cannot write {path}: {exc.strerror or exc}") from None
+    os.close(fd)
+    try:
+        write(Path(tmp))
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
+        os.replace(tmp, target)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise

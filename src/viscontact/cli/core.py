@@ -1,4 +1,5 @@
-"""Commands ``collide``, ``restitution`` and ``calibrate`` (non-dimensional)."""
+"""Commands ``collide``, ``restitution`` and ``calibrate`` (non-dimensional; ``calibrate``
+also takes physical options, handled in :mod:`.physical`)."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import numpy as np
 
 from ..calibration import alpha_from_e, restitution
 from ..collision import collide
+from . import physical
 from .common import add_model_options, print_json
 
 
@@ -35,12 +37,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(handler=_restitution)
 
-    p = sub.add_parser("calibrate", help="alpha from a measured restitution coefficient",
-                       description="Find alpha so that the law gives restitution e exactly.")
-    add_model_options(p)
-    p.add_argument("--e", type=float, required=True, help="target restitution coefficient in (0, 1]")
+    p = sub.add_parser(
+        "calibrate", help="alpha (and T, c, tau in physical units) from a measured e",
+        description="Find alpha so that the law gives restitution e exactly. With physical "
+        "options (--mass, --k-hertz or --E/--nu with --radius, --v or --drop-height; or --ball) "
+        "also print the time scale T, the physical damping coefficient c and tau = beta T, for "
+        "--model or for every law of the study.")
+    add_model_options(p, required=False,
+                      model_help=" (required without physical options; with them, default: "
+                      "every law of the study)")
+    p.add_argument("--e", type=float, default=None, help="target restitution coefficient in (0, 1]")
     p.add_argument("--beta", type=float, default=None, help="relaxation time / T (Jian only)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    physical.add_physical_options(p)
     p.set_defaults(handler=_calibrate)
 
 
@@ -100,6 +109,13 @@ def _restitution(args: argparse.Namespace) -> int:
 
 
 def _calibrate(args: argparse.Namespace) -> int:
+    if physical.has_physical(args):
+        return physical.calibrate_physical_cmd(args)
+    if args.model is None:
+        raise ValueError("give --model (or physical options such as --mass, --k-hertz, --v, "
+                         "or --ball)")
+    if args.e is None:
+        raise ValueError("give the target restitution coefficient --e")
     a = alpha_from_e(args.model, args.e, beta=args.beta, p=args.p, end=args.end)
     if args.json:
         print_json({"model": args.model, "end": args.end, "e": args.e, "beta": args.beta,

@@ -1,0 +1,90 @@
+"""The report page as a person sees it: headless Chromium loads ``index.html``.
+
+Talks to chromedriver through the W3C WebDriver HTTP protocol directly (standard library
+only), so the only requirement is the Debian packages ``chromium`` and ``chromium-driver``.
+"""
+
+import json
+import shutil
+import socket
+import subprocess
+import time
+import urllib.error
+import urllib.request
+
+import pytest
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser") or shutil.which(
+    "google-chrome")
+CHROMEDRIVER = shutil.which("chromedriver")
+
+pytestmark = pytest.mark.skipif(
+    not (CHROMIUM and CHROMEDRIVER),
+    reason="headless browser test needs chromium and chromedriver on PATH "
+    "(Debian: apt-get install chromium chromium-driver)")
+
+
+def _request(method, url, body=None, timeout=60):
+    data = None if body is None else json.dumps(body).encode()
+    req = urllib.request.Request(url, data=data, method=method,
+                                 headers={"Content-Type": "application/json"})
+    with urllib.request.urlopen(req, timeout=timeout) as resp:
+        return json.loads(resp.read().decode() or "{}")
+
+
+@pytest.fixture
+def webdriver():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    proc = subprocess.Popen([CHROMEDRIVER, f"--port={port}"], stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL)
+    base = f"http://127.0.0.1:{port}"
+    try:
+        for _ in range(100):
+            try:
+                if _request("GET", f"{base}/status", timeout=2)["value"]["ready"]:
+                    break
+            except (urllib.error.URLError, OSError, KeyError):
+                pass
+            time.sleep(0.1)
+        caps = {"capabilities": {"alwaysMatch": {
+            "browserName": "chrome",
+            "goog:chromeOptions": {"binary": CHROMIUM, "args": [
+                "--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+                "--window-size=1400,1000"]},
+        }}}
+        session = _request("POST", f"{base}/session", caps)["value"]["sessionId"]
+        yield f"{base}/session/{session}"
+        _request("DELETE", f"{base}/session/{session}")
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+
+
+_CHECK = """
+const imgs = Array.from(document.images).map(
+    i => ({src: i.getAttribute('src'), complete: i.complete, w: i.naturalWidth}));
+const tables = Array.from(document.querySelectorAll('table')).map(
+    t => ({id: t.id, rows: t.querySelectorAll('tbody tr').length,
+           caption: t.caption ? t.caption.textContent : ''}));
+const captions = Array.from(document.querySelectorAll('figcaption')).length;
+return {title: document.title, imgs: imgs, tables: tables, captions: captions};
+"""
+
+
+def test_every_image_loads_and_every_table_is_there(report, webdriver):
+    out = report[0]
+    _request("POST", f"{webdriver}/url", {"url": (out / "index.html").resolve().as_uri()})
+    page = _request("POST", f"{webdriver}/execute/sync", {"script": _CHECK, "args": []})["value"]
+    assert "viscontact" in page["title"]
+    srcs = sorted(i["src"] for i in page["imgs"])
+    assert srcs == [f"fig{i:02d}.png" for i in range(2, 13)]
+    for img in page["imgs"]:
+        assert img["complete"] and img["w"] > 0, img
+    assert page["captions"] == 11
+    tables = {t["id"]: t for t in page["tables"]}
+    assert tables["table1"]["rows"] == 30 and tables["table2"]["rows"] == 30
+    assert tables["table4"]["rows"] == 12 and tables["comparison"]["rows"] == 12
+    assert tables["published"]["rows"] == 6
+    assert all(t["caption"] for t in page["tables"])
