@@ -11,11 +11,11 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from . import core
+from . import audit, core
 
 __all__ = ["main", "COMMANDS", "UserError"]
 
-COMMANDS = (core,)
+COMMANDS = (core, audit)
 
 
 class UserError(Exception):
