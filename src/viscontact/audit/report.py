@@ -163,7 +163,7 @@ def plot_formulas(rows: Sequence[FormulaAudit], path: str) -> str:
     """Delivered against target e, one line per formula, one panel per end criterion."""
     plt = _mpl()
     ends = [end for end in ENDS if any(r.end == end for r in rows)]
-    fig, axes = plt.subplots(1, len(ends), figsize=(7.5 * len(ends), 7), squeeze=False)
+    fig, axes = plt.subplots(1, len(ends), figsize=(7.5 * len(ends), 8.5), squeeze=False)
     names = list(dict.fromkeys(r.formula for r in rows))
     cmap = plt.get_cmap("tab20")
     styles = ["-", "--", "-.", ":"]
@@ -181,8 +181,9 @@ def plot_formulas(rows: Sequence[FormulaAudit], path: str) -> str:
         ax.set_xlim(0, 1)
         ax.set_ylim(0, 1)
         ax.grid(alpha=0.3)
-    axes[0][-1].legend(fontsize=7, loc="upper left", ncol=1)
-    fig.tight_layout()
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=5, fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0.14, 1, 1))
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path
@@ -191,7 +192,7 @@ def plot_formulas(rows: Sequence[FormulaAudit], path: str) -> str:
 def plot_engines(rows: Sequence[EngineAudit], path: str) -> str:
     """Delivered against target e, one line per engine setting."""
     plt = _mpl()
-    fig, ax = plt.subplots(figsize=(8, 7))
+    fig, ax = plt.subplots(figsize=(8, 10))
     ax.plot([0, 1], [0, 1], color="k", lw=0.8, label="delivered = target")
     keys = list(dict.fromkeys((r.engine, r.option, r.clamp, r.end) for r in rows))
     cmap = plt.get_cmap("tab20")
@@ -210,7 +211,7 @@ def plot_engines(rows: Sequence[EngineAudit], path: str) -> str:
     ax.set_xlim(0, 1)
     ax.set_ylim(0, 1)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="upper left")
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2, frameon=False)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

@@ -44,6 +44,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     phys.add_argument("--v", type=float, help="impact speed v_i [m/s]")
     p.add_argument("--out", default="audit-report", metavar="DIR", help="--all: output directory")
     p.add_argument("--no-plots", action="store_true", help="--all: tables only")
+    p.add_argument("--grid", type=float, nargs="+", metavar="E",
+                   help="--all: target e values (default 0.05, 0.10, ..., 0.95, 0.99)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(handler=_audit)
 
@@ -64,6 +66,8 @@ def _audit(args: argparse.Namespace) -> int:
         return _all(args)
     if args.e is None:
         raise ValueError("--e (the target restitution coefficient) is required")
+    if args.grid:
+        raise ValueError("--grid only applies to --all")
     if args.formula is not None:
         return _formula(args)
     return _engine(args)
@@ -141,10 +145,14 @@ def _all(args: argparse.Namespace) -> int:
                             ("--value", args.value), ("--damping", args.damping)) if v is not None]
     if extra:
         raise ValueError(f"--all takes no {', '.join(extra)} (it audits everything)")
-    from ..audit.report import DEFAULT_PHYSICAL, write_all
+    from ..audit.report import DEFAULT_GRID, DEFAULT_PHYSICAL, write_all
 
     phys = _physical(args) or DEFAULT_PHYSICAL
-    paths = write_all(args.out, physical=phys, plots=not args.no_plots)
+    grid = tuple(args.grid) if args.grid else DEFAULT_GRID
+    for e in grid:
+        if not 0.0 < e <= 1.0:
+            raise ValueError(f"--grid values must be in (0, 1]; got {e!r}")
+    paths = write_all(args.out, grid=grid, physical=phys, plots=not args.no_plots)
     if args.json:
         print_json({"out": args.out, "files": paths})
     else:
