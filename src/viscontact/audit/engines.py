@@ -133,6 +133,16 @@ class Preset:
         return self.end_clamped if c else self.end_unclamped
 
 
+def _positive_or_zero(name: str, value: float) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number >= 0, got {value!r}") from None
+    if not (math.isfinite(v) and v >= 0):
+        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+    return v
+
+
 def _need(phys: Physical | None, what: str) -> Physical:
     if phys is None:
         raise ValueError(f"{what} damping is in physical units: give m_eff, r_eff, E_eff (or k_Hertz) "
@@ -271,16 +281,6 @@ _REGISTERED: tuple[Preset, ...] = (
                 "c = AE(en) sqrt(m* k_Hertz) delta^(1/4) "
                 "=> Ts law, Antypov-Elliott alpha; attraction removed: zero-force end"),
 )
-
-
-def _positive_or_zero(name: str, value: float) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number >= 0, got {value!r}") from None
-    if not (math.isfinite(v) and v >= 0):
-        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
-    return v
 
 
 PRESETS: dict[str, Preset] = {p.key: p for p in _REGISTERED}
