@@ -310,3 +310,40 @@ class _NoRaise:
 
     def __exit__(self, *exc):
         return False
+
+
+# --------------------------------------------------------- properties (no solves: cheap)
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+_E = st.floats(min_value=1e-6, max_value=1.0, exclude_max=True, allow_nan=False)
+
+
+@settings(max_examples=200, deadline=None)
+@given(_E)
+def test_hunt_exact_relation_property(e):
+    a = F.hunt_exact_alpha(e)
+    assert 0 < a <= 1 / e
+    lhs, rhs = (1 + e) * a, math.log1p(a) - math.log1p(-a * e)
+    assert lhs == pytest.approx(rhs, rel=1e-10, abs=1e-300) or a == pytest.approx(1 / e, rel=1e-12)
+    if 1 - e < 1e-6:
+        assert a == pytest.approx(1.5 * (1 - e), rel=1e-5)  # Hunt-Crossley is its first order
+
+
+@settings(max_examples=200, deadline=None)
+@given(_E)
+def test_every_formula_defined_or_nan_and_inverses(e):
+    for f in F.FORMULAS.values():
+        a = f.alpha(e)
+        assert math.isnan(a) or a >= 0
+    assert F.muller_poschel_e(F.FORMULAS["muller-poschel"].alpha(e)) == pytest.approx(e, rel=1e-9)
+    a = F.antypov_elliott_alpha(e)
+    assert F.antypov_elliott_inverse(a) == pytest.approx(e, rel=1e-9)
+    pre = get_preset("lammps", "tsuji")
+    assert pre.to_alpha(pre.from_alpha(pre.to_alpha(e, None), None), None) == pytest.approx(
+        pre.to_alpha(e, None), rel=1e-9)
+
+
+def test_default_grid_spans_the_issue():
+    assert report.DEFAULT_GRID[0] == 0.05 and report.DEFAULT_GRID[-1] == 0.99
+    assert all(e in report.DEFAULT_GRID for e in report.SUMMARY_E)

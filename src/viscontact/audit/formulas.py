@@ -103,27 +103,46 @@ def _hu_guo(e: float) -> float:
     return 1.5 * (1.0 - e) / e
 
 
+def _hunt_residual(a: float, e: float, le: float) -> float:
+    """[ln((1 + a)/(1 - a e)) - (1 + e) a] / a^2, without cancellation.
+
+    Expanding both logarithms, the bracket is sum_{k>=2} a^k (e^k - (-1)^k)/k, so the scaled
+    residual is (e^2 - 1)/2 + a (1 + e^3)/3 + a^2 (e^4 - 1)/4 + ... (summed for small a,
+    where the direct form loses all digits); ``le`` = ln e.
+    """
+    if a < 0.05:
+        total, ak = 0.0, 1.0
+        for k in range(2, 40):
+            ck = math.expm1(k * le) if k % 2 == 0 else math.exp(k * le) + 1.0
+            total += ak * ck / k
+            ak *= a
+        return total
+    return (math.log1p(a) - math.log1p(-a * e) - (1.0 + e) * a) / (a * a)
+
+
 def hunt_exact_alpha(e: float) -> float:
     """The exact Hunt-Crossley relation (1 + e) alpha = ln((1 + alpha)/(1 - alpha e)), solved for alpha.
 
     Follows from integrating v dv/dx = -x^(3/2)(1 + alpha v) between the two zero-overlap
     states; the Hunt force and overlap vanish together, so it holds for both end criteria.
     A.S. Carvalho, J.M. Martins, Mech. Mach. Theory (2019), after Hunt & Crossley (1975).
+    The root lies in (0, 1/e); for small e it is 1/e to machine precision.
     """
     e = _check_e(e)
     if e == 1.0:
         return 0.0
-
-    def f(a: float) -> float:
-        return math.log1p(a) - math.log1p(-a * e) - (1.0 + e) * a
-
-    # f < 0 for small alpha (f ~ -(1-e^2) alpha^2 / 2), f -> +inf as alpha -> 1/e
-    lo = 1e-3 * (1.0 - e)
-    hi = 1.0 / e
-    hi_try = hi * (1.0 - 1e-16)
-    while f(hi_try) <= 0:  # pragma: no cover - never for e <= 1 - 1e-12
-        hi_try = 0.5 * (hi_try + hi)
-    return brentq(f, lo, hi_try, xtol=1e-15, rtol=1e-15, maxiter=500)
+    le = math.log(e)
+    inv = 1.0 / e
+    # the scaled residual is (e^2 - 1)/2 < 0 at 0 and -> +inf at 1/e: find a point where it is > 0
+    delta = 0.5
+    while True:
+        hi = inv * (1.0 - delta)
+        if hi >= inv or delta < 1e-300:
+            return inv  # root indistinguishable from 1/e
+        if _hunt_residual(hi, e, le) > 0:
+            break
+        delta *= 1e-2
+    return brentq(lambda a: _hunt_residual(a, e, le), 0.0, hi, xtol=1e-300, rtol=1e-15, maxiter=500)
 
 
 # ---------------------------------------------------------------------------- Kuwabara-Kono
@@ -162,7 +181,7 @@ def _muller_poschel(e: float) -> float:
     hi = 1.0
     while muller_poschel_e(hi) > e:
         hi *= 4.0
-        if hi > 1e12:  # pragma: no cover - e > 0 is always reached
+        if hi > 1e120:  # pragma: no cover - only for e below ~1e-180
             return math.nan
     return brentq(lambda a: muller_poschel_e(a) - e, 0.0, hi, xtol=1e-15, rtol=1e-15)
 

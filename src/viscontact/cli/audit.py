@@ -42,7 +42,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     phys.add_argument("--e-eff", type=float, help="effective modulus E* [Pa] (or give --k-hertz)")
     phys.add_argument("--k-hertz", type=float, help="Hertz stiffness (4/3) E* sqrt(R*) [N/m^1.5]")
     phys.add_argument("--v", type=float, help="impact speed v_i [m/s]")
-    p.add_argument("--out", default="audit-report", metavar="DIR", help="--all: output directory")
+    p.add_argument("--out", default="viscontact-report/audit", metavar="DIR",
+                   help="--all: output directory (default viscontact-report/audit)")
     p.add_argument("--no-plots", action="store_true", help="--all: tables only")
     p.add_argument("--grid", type=float, nargs="+", metavar="E",
                    help="--all: target e values (default 0.05, 0.10, ..., 0.95, 0.99)")
