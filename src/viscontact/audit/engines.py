@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from scipy.optimize import brentq
 
@@ -345,7 +345,6 @@ class EngineAudit:
     mapping: str
     note: str = ""
     T: float | None = None
-    extra: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         return {
