@@ -11,11 +11,11 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from . import core, physical
+from . import audit, core, physical
 
 __all__ = ["main", "COMMANDS", "UserError"]
 
-COMMANDS = (core, physical)
+COMMANDS = (core, physical, audit)
 
 
 class UserError(Exception):

@@ -1,0 +1,409 @@
+"""DEM-engine presets: what a user types, mapped to (law, alpha, end criterion).
+
+Each :class:`Preset` says which viscontact law an engine's Hertzian normal force with a given
+damping option is, how the number the user types maps to our non-dimensional alpha (and
+back), and which end-of-contact criterion the engine applies (zero force when it clamps
+the attractive force, zero overlap when it lets the damping pull).  Every mapping is read
+from the engine's own source or documentation; the file or page is in ``source``.
+
+Units: SI (any consistent set works; T must come out in the engine's time unit).
+
+Physical inputs.  The dashpots whose coefficient is fixed in physical units (LAMMPS
+``velocity``, ``mass_velocity``, ``viscoelastic``) have an alpha that depends on the impact
+speed through T = (m*^2 / (k_Hertz^2 v))^(1/5) (SPEC section 1); they need a
+:class:`Physical`.  The restitution-based options (Tsuji-type, c = alpha sqrt(m* k_Hertz)
+delta^(1/4)) have an alpha independent of speed, mass and stiffness.
+
+Note for the maintainers: the small T / k_Hertz helpers here are private on purpose
+(``viscontact.dimensional`` is being written in parallel); fold them into it later.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from scipy.optimize import brentq
+
+from ..collision import check_end
+from .formulas import (
+    antypov_elliott_alpha, antypov_elliott_inverse, delivered_e, exact_alpha,
+    tsuji_polynomial, _check_e,
+)
+
+__all__ = ["Physical", "Preset", "PRESETS", "ENGINES", "EngineAudit", "audit_engine", "get_preset"]
+
+
+# ----------------------------------------------------------------- physical quantities
+def _positive(name: str, value: float) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number > 0, got {value!r}") from None
+    if not (math.isfinite(v) and v > 0):
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return v
+
+
+@dataclass(frozen=True)
+class Physical:
+    """The physical quantities of one collision (SI).
+
+    Attributes:
+        m_eff: effective mass m* = m1 m2 / (m1 + m2) [kg].
+        r_eff: effective radius R* = R1 R2 / (R1 + R2) [m].
+        k_hertz: Hertz stiffness (4/3) E* sqrt(R*) [N / m^(3/2)].
+        v: normal impact speed v_i [m/s].
+    """
+
+    m_eff: float
+    r_eff: float
+    k_hertz: float
+    v: float
+
+    def __post_init__(self) -> None:
+        for name in ("m_eff", "r_eff", "k_hertz", "v"):
+            _positive(name, getattr(self, name))
+
+    @classmethod
+    def build(cls, *, m_eff: float, r_eff: float, v: float, e_eff: float | None = None,
+              k_hertz: float | None = None) -> "Physical":
+        """From E* (``e_eff``, Pa) or ``k_hertz`` directly (give exactly one)."""
+        if (e_eff is None) == (k_hertz is None):
+            raise ValueError("give exactly one of E_eff (effective modulus E*) and k_Hertz")
+        r = _positive("r_eff", r_eff)
+        k = k_hertz if k_hertz is not None else 4.0 / 3.0 * _positive("e_eff", e_eff) * math.sqrt(r)
+        return cls(m_eff=_positive("m_eff", m_eff), r_eff=r, k_hertz=_positive("k_hertz", k),
+                   v=_positive("v", v))
+
+    @property
+    def T(self) -> float:
+        """Time scale T = (m*^2 / (k_Hertz^2 v_i))^(1/5) [s] (SPEC section 2)."""
+        return (self.m_eff**2 / (self.k_hertz**2 * self.v)) ** 0.2
+
+
+# ----------------------------------------------------------------------------- presets
+@dataclass(frozen=True)
+class Preset:
+    """One engine option, mapped onto a viscontact law.
+
+    Attributes:
+        engine, option: e.g. ``lammps`` / ``coeff_restitution``.
+        model: the viscontact law (``LH``, ``Ts``, ``KK``).
+        input_name, input_units: what the user types (``e`` for restitution-based options).
+        to_alpha: (typed value, Physical or None) -> alpha.
+        from_alpha: (alpha, Physical or None) -> typed value; ValueError if the engine's
+            own formula cannot express that alpha.
+        end_clamped, end_unclamped: the end criterion with the clamp flag on / off.
+        clamp_flag: the engine's name for the clamp (None: fixed by the engine).
+        source: where the mapping was read (file or page).
+        mapping: the mapping in words.
+    """
+
+    engine: str
+    option: str
+    model: str
+    input_name: str
+    input_units: str
+    to_alpha: Callable[[float, Physical | None], float]
+    from_alpha: Callable[[float, Physical | None], float]
+    end_clamped: str
+    end_unclamped: str
+    clamp_flag: str | None
+    source: str
+    mapping: str
+    needs_physical: bool = False
+    clamp_default: bool = False
+
+    @property
+    def key(self) -> str:
+        return f"{self.engine}:{self.option}"
+
+    @property
+    def restitution_input(self) -> bool:
+        return self.input_name == "e"
+
+    def end(self, clamp: bool | None) -> str:
+        """The end criterion for the clamp flag (None: the engine's default)."""
+        c = self.clamp_default if clamp is None else bool(clamp)
+        if self.clamp_flag is None and clamp is not None and c != self.clamp_default:
+            raise ValueError(f"{self.engine} {self.option} has no clamp switch: its contact always "
+                             f"ends at zero {self.end_clamped if self.clamp_default else self.end_unclamped}")
+        return self.end_clamped if c else self.end_unclamped
+
+
+def _positive_or_zero(name: str, value: float) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number >= 0, got {value!r}") from None
+    if not (math.isfinite(v) and v >= 0):
+        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+    return v
+
+
+def _need(phys: Physical | None, what: str) -> Physical:
+    if phys is None:
+        raise ValueError(f"{what} damping is in physical units: give m_eff, r_eff, E_eff (or k_Hertz) "
+                         "and the impact speed v")
+    return phys
+
+
+def _e_input(e: float) -> float:
+    try:
+        v = float(e)
+    except (TypeError, ValueError):
+        raise ValueError(f"the engine's restitution input must be a number in (0, 1]; got {e!r}") from None
+    if not (0.0 < v <= 1.0):
+        raise ValueError(f"the engine's restitution input must be a number in (0, 1]; got {e!r}")
+    return v
+
+
+def _ae_to(e: float, _phys: Physical | None) -> float:
+    return antypov_elliott_alpha(_e_input(e))
+
+
+def _ae_from(alpha: float, _phys: Physical | None) -> float:
+    return antypov_elliott_inverse(alpha)
+
+
+def _tsuji_to(factor: float) -> Callable[[float, Physical | None], float]:
+    return lambda e, _p: factor * tsuji_polynomial(_e_input(e))
+
+
+def _tsuji_from(factor: float) -> Callable[[float, Physical | None], float]:
+    lo_a, hi_a = factor * tsuji_polynomial(1.0), factor * tsuji_polynomial(0.0)
+
+    def inv(alpha: float, _p: Physical | None) -> float:
+        # the polynomial is strictly decreasing on [0, 1] (tested)
+        if not (lo_a <= alpha <= hi_a):
+            raise ValueError(f"the Tsuji curve used by LAMMPS spans alpha in [{lo_a:.4g}, {hi_a:.4g}] "
+                             f"for e in [0, 1]; alpha = {alpha:.6g} is outside it")
+        return brentq(lambda e: factor * tsuji_polynomial(e) - alpha, 0.0, 1.0, xtol=1e-15, rtol=1e-15)
+
+    return inv
+
+
+_LAMMPS_SRC = ("LAMMPS src/GRANULAR/gran_sub_mod_damping.cpp (+ gran_sub_mod_damping_kernel.h), "
+               "gran_sub_mod_normal.cpp (hertz/material: F = (4/3) E* a delta, a = sqrt(R* delta)), "
+               "granular_model.cpp (GranularModel::calculate_forces: Fntot = Fnormal + Fdamp, set to 0 "
+               "if negative only with limit_damping); doc https://docs.lammps.org/pair_granular.html")
+_AE_WORDS = ("c = -2 sqrt(5/6) beta sqrt(S_n m*), S_n = 2 E* sqrt(R* delta), beta = ln e / sqrt(ln^2 e + pi^2) "
+             "=> c = alpha sqrt(m* k_Hertz) delta^(1/4) with alpha = -sqrt(5) ln e / sqrt(ln^2 e + pi^2) "
+             "(Antypov-Elliott): Ts law")
+
+
+def _lammps(option: str, model: str, name: str, units: str, to_a, from_a, mapping: str,
+            physical: bool = False, extra_src: str = "") -> Preset:
+    return Preset(
+        engine="lammps", option=option, model=model, input_name=name, input_units=units,
+        to_alpha=to_a, from_alpha=from_a, end_clamped="force", end_unclamped="overlap",
+        clamp_flag="limit_damping", source=_LAMMPS_SRC + extra_src, mapping=mapping,
+        needs_physical=physical,
+    )
+
+
+_REGISTERED: tuple[Preset, ...] = (
+    _lammps("velocity", "LH", "eta_n0", "kg/s",
+            lambda eta, p: _positive_or_zero("eta_n0", eta) * _need(p, "velocity").T / p.m_eff,
+            lambda a, p: a * _need(p, "velocity").m_eff / p.T,
+            "hertz/material + damping velocity: F_damp = -eta_n0 v_n (constant dashpot) => LH law, "
+            "alpha = eta_n0 T / m* (depends on v through T)", physical=True),
+    _lammps("mass_velocity", "LH", "eta_n0", "1/s",
+            lambda eta, p: _positive_or_zero("eta_n0", eta) * _need(p, "mass_velocity").T,
+            lambda a, p: a / _need(p, "mass_velocity").T,
+            "damping mass_velocity: F_damp = -eta_n0 m* v_n => LH law, alpha = eta_n0 T "
+            "(depends on v through T)", physical=True),
+    _lammps("viscoelastic", "KK", "eta_n0", "1/(m s)",
+            lambda eta, p: (_positive_or_zero("eta_n0", eta) * _need(p, "viscoelastic").m_eff
+                            * math.sqrt(p.r_eff) / (p.k_hertz * p.T)),
+            lambda a, p: a * _need(p, "viscoelastic").k_hertz * p.T / (p.m_eff * math.sqrt(p.r_eff)),
+            "damping viscoelastic: F_damp = -eta_n0 m* a v_n, a = sqrt(R* delta) => KK law, "
+            "alpha = eta_n0 m* sqrt(R*) / (k_Hertz T) (depends on v through T)", physical=True),
+    _lammps("tsuji", "Ts", "e", "-", _tsuji_to(1.0), _tsuji_from(1.0),
+            "damping tsuji: F_damp = -alpha(e) sqrt(m* F_ne / delta) v_n = -alpha sqrt(m* k_Hertz) "
+            "delta^(1/4) v_n with alpha(e) the Tsuji polynomial as documented (stable 22Jul2025, "
+            "the pinned version, verified by running it) => Ts law",
+            extra_src="; GranSubModDampingTsuji::init()"),
+    _lammps("tsuji-sqrt2", "Ts", "e", "-", _tsuji_to(math.sqrt(2.0)), _tsuji_from(math.sqrt(2.0)),
+            "damping tsuji in LAMMPS development versions after 22Jul2025: the Tsuji polynomial times "
+            "sqrt(2) ('effective mass convention') => Ts law",
+            extra_src="; GranSubModDampingTsuji::init() (damp *= MY_SQRT2)"),
+    _lammps("coeff_restitution", "Ts", "e", "-", _ae_to, _ae_from,
+            "damping coeff_restitution with a Hertzian normal model: damp = -sqrt(3/2) 2 sqrt(5/6) ln e "
+            "/ sqrt(pi^2 + ln^2 e) times sqrt(m* F_ne / delta) => Ts law with the Antypov-Elliott alpha",
+            extra_src="; GranSubModDampingCoeffRestitution::init()"),
+    Preset(
+        engine="liggghts", option="hertz", model="Ts", input_name="e", input_units="-",
+        to_alpha=_ae_to, from_alpha=_ae_from, end_clamped="force", end_unclamped="overlap",
+        clamp_flag="limitForce",
+        source="LIGGGHTS-PUBLIC src/normal_model_hertz.h (NormalModel<HERTZ>::surfacesIntersect: "
+               "kn = 4/3 Y* sqrt(R* delta), gamman = -2 sqrt(5/6) betaeff sqrt(Sn m*); 'if(limitForce && "
+               "(Fn<0.0)) Fn = 0.0'); doc gran_model_hertz (model hertz, option limitForce, default off)",
+        mapping=_AE_WORDS),
+    Preset(
+        engine="mercurydpm", option="hertzian-viscoelastic", model="Ts", input_name="e", input_units="-",
+        to_alpha=_ae_to, from_alpha=_ae_from, end_clamped="force", end_unclamped="overlap",
+        clamp_flag=None, clamp_default=False,
+        source="MercuryDPM Kernel/Species/NormalForceSpecies/HertzianViscoelasticNormalSpecies.cc "
+               "(setEffectiveElasticModulusAndRestitutionCoefficient: dissipation = sqrt(5 ln^2 e / "
+               "(ln^2 e + pi^2))); Kernel/Interactions/NormalForceInteractions/"
+               "HertzianViscoelasticInteraction.cc (computeNormalForce: k = 4/3 E sqrt(R* delta), "
+               "F = k delta - dissipation sqrt(m* k) v_n while overlap > 0, no clamp)",
+        mapping="F = k delta - d sqrt(m* k) v_n with k = (4/3) E* sqrt(R* delta) => Ts law, alpha = d = "
+                "the Antypov-Elliott alpha; the force may pull, contact ends at zero overlap"),
+    Preset(
+        engine="chrono", option="smc-hertz", model="Ts", input_name="e", input_units="-",
+        to_alpha=_ae_to, from_alpha=_ae_from, end_clamped="force", end_unclamped="overlap",
+        clamp_flag=None, clamp_default=True,
+        source="Project Chrono src/chrono/physics/ChContactSMC.h (CalculateForce, case "
+               "ChSystemSMC::Hertz with material properties; 'if (forceN < 0) forceN = 0'); "
+               "in Chrono 9 the same code is in ChDefaultContactForceTorqueSMC.cpp",
+        mapping=_AE_WORDS + "; negative normal force set to zero: zero-force end"),
+    Preset(
+        engine="demengine", option="hertzian", model="Ts", input_name="e", input_units="-",
+        to_alpha=_ae_to, from_alpha=_ae_from, end_clamped="force", end_unclamped="overlap",
+        clamp_flag=None, clamp_default=False,
+        source="DEM-Engine src/kernel/DEMCustomizablePolicies/FullHertzianForceModel.cu (default "
+               "model: k_n = 2/3 S_n, gamma_n = 2 sqrt(5/6) beta sqrt(S_n m*), force += (k_n delta + "
+               "gamma_n v_n) n while overlapDepth > 0, no clamp)",
+        mapping=_AE_WORDS + "; no clamp: the force may pull, contact ends at zero overlap"),
+    Preset(
+        engine="yade", option="hertz-mindlin", model="Ts", input_name="e", input_units="-",
+        to_alpha=_ae_to, from_alpha=_ae_from, end_clamped="force", end_unclamped="overlap",
+        clamp_flag=None, clamp_default=True,
+        source="Yade pkg/dem/HertzMindlin.cpp (Ip2_FrictMat_FrictMat_MindlinPhys::go: alpha = "
+               "-2 sqrt(5/6) ln(en) / sqrt(ln^2 en + pi^2) sqrt(2 E* sqrt(R*)), kno = 4/3 E* sqrt(R*); "
+               "Law2_ScGeom_MindlinPhys_Mindlin::go: cn = alpha sqrt(m*) uN^(1/4), normal force set to "
+               "zero when damping would make it attractive (no adhesion))",
+        mapping="c = alpha_Yade sqrt(m*) delta^(1/4) with alpha_Yade = AE(en) sqrt(k_Hertz), i.e. "
+                "c = AE(en) sqrt(m* k_Hertz) delta^(1/4) "
+                "=> Ts law, Antypov-Elliott alpha; attraction removed: zero-force end"),
+)
+
+
+PRESETS: dict[str, Preset] = {p.key: p for p in _REGISTERED}
+#: engine -> its options, in registration order
+ENGINES: dict[str, tuple[str, ...]] = {}
+for _p in _REGISTERED:
+    ENGINES[_p.engine] = ENGINES.get(_p.engine, ()) + (_p.option,)
+_DEFAULT_OPTION = {"liggghts": "hertz", "mercurydpm": "hertzian-viscoelastic", "chrono": "smc-hertz",
+                   "demengine": "hertzian", "yade": "hertz-mindlin"}
+
+
+def get_preset(engine: str, option: str | None = None) -> Preset:
+    """The preset for ``engine`` and its damping ``option`` (engines with one option need none)."""
+    if not isinstance(engine, str) or engine.strip().lower() not in ENGINES:
+        raise ValueError(f"unknown engine {engine!r}; valid engines are: {', '.join(ENGINES)}")
+    eng = engine.strip().lower()
+    if option is None:
+        if eng not in _DEFAULT_OPTION:
+            raise ValueError(f"engine {eng} needs a damping option: one of {', '.join(ENGINES[eng])}")
+        option = _DEFAULT_OPTION[eng]
+    opt = str(option).strip().lower().replace("_", "-")
+    for o in ENGINES[eng]:
+        if o.replace("_", "-") == opt:
+            return PRESETS[f"{eng}:{o}"]
+    raise ValueError(f"engine {eng} has no damping option {option!r}; valid: {', '.join(ENGINES[eng])}")
+
+
+# ------------------------------------------------------------------------------- audit
+@dataclass(frozen=True)
+class EngineAudit:
+    """What an engine setting delivers, and what to type instead.
+
+    Attributes:
+        engine, option, model, end: the preset, its law and the end criterion that applies.
+        clamp: whether the attractive force is clamped (e.g. LAMMPS ``limit_damping``).
+        target_e: the restitution the user wants.
+        input_value: the value typed into the engine (``target_e`` for restitution-based
+            options; for physical-unit dashpots the given value, or, when none was given, the
+            value calibrated exactly for the zero-overlap criterion).
+        alpha: the alpha that ``input_value`` gives.
+        delivered_e: the restitution the engine really produces (exact solve).
+        exact_alpha: the alpha that gives ``target_e`` under ``end``.
+        input_for_target: the value to type to get ``target_e`` (NaN if the engine's own formula
+            cannot express ``exact_alpha``; then ``note`` says why).
+    """
+
+    engine: str
+    option: str
+    model: str
+    end: str
+    clamp: bool
+    target_e: float
+    input_name: str
+    input_units: str
+    input_value: float
+    alpha: float
+    delivered_e: float
+    error: float
+    exact_alpha: float
+    input_for_target: float
+    source: str
+    mapping: str
+    note: str = ""
+    T: float | None = None
+
+    def to_dict(self) -> dict:
+        return {
+            "engine": self.engine, "option": self.option, "model": self.model, "end": self.end,
+            "clamp": self.clamp, "target_e": self.target_e, "input_name": self.input_name,
+            "input_units": self.input_units, "input_value": self.input_value, "alpha": self.alpha,
+            "delivered_e": self.delivered_e, "error": self.error, "exact_alpha": self.exact_alpha,
+            "input_for_target": self.input_for_target, "T": self.T, "note": self.note,
+            "mapping": self.mapping, "source": self.source,
+        }
+
+
+def audit_engine(
+    engine: str, option: str | None, e: float, *, clamp: bool | None = None,
+    physical: Physical | None = None, value: float | None = None,
+) -> EngineAudit:
+    """Audit one engine preset for target restitution ``e``.
+
+    ``clamp`` switches the engine's attractive-force clamp (LAMMPS ``limit_damping``,
+    LIGGGHTS ``limitForce``); None takes the engine's default.  ``value`` is what the user
+    typed (default: ``e`` itself for restitution-based options).  Physical-unit options need
+    ``physical``.
+    """
+    pre = get_preset(engine, option)
+    e = _check_e(e)
+    end = pre.end(clamp)
+    check_end(end)
+    c = pre.end_clamped == end
+    phys = physical
+    if pre.needs_physical:
+        _need(phys, f"LAMMPS {pre.option}")
+    notes = []
+    ex = exact_alpha(pre.model, e, end)
+    if value is None:
+        if pre.restitution_input:
+            value = e
+        else:
+            a_ov = exact_alpha(pre.model, e, "overlap")
+            value = pre.from_alpha(a_ov, phys) if math.isfinite(a_ov) else math.nan
+            notes.append("no input value given: using the value calibrated exactly for the "
+                         "zero-overlap criterion")
+    if math.isfinite(value):
+        alpha = pre.to_alpha(value, phys)
+        d = delivered_e(pre.model, alpha, end)
+    else:
+        alpha = d = math.nan
+    if math.isfinite(ex):
+        try:
+            inp = pre.from_alpha(ex, phys)
+        except ValueError as exc:
+            inp = math.nan
+            notes.append(f"no input gives e = {e:g}: {exc}")
+    else:
+        inp = math.nan
+        notes.append(f"the {pre.model} law cannot reach e = {e:g} under the zero-{end} criterion")
+    return EngineAudit(
+        engine=pre.engine, option=pre.option, model=pre.model, end=end, clamp=c, target_e=e,
+        input_name=pre.input_name, input_units=pre.input_units, input_value=float(value),
+        alpha=alpha, delivered_e=d, error=d - e, exact_alpha=ex, input_for_target=inp,
+        source=pre.source, mapping=pre.mapping, note="; ".join(notes),
+        T=phys.T if (phys is not None and pre.needs_physical) else None,
+    )

@@ -1,0 +1,436 @@
+"""Published closed-form calibrations alpha(e), one function each, in one registry.
+
+Every formula is written for one of the laws of :mod:`viscontact.laws`, in that law's
+non-dimensional damping constant alpha (SPEC sections 2-3), so that the exact solver can say
+what restitution the alpha really delivers.  Conversions used here:
+
+* Hunt-Crossley papers write F = k delta^(3/2) (1 + chi delta'), with chi = lambda / k_Hertz.
+  Non-dimensionally F^ = x^(3/2) (1 + alpha x') with alpha = chi v_i, so a published
+  "chi v_i = f(e)" is alpha = f(e).
+* Kuwabara-Kono / Brilliantov: Schwager & Poschel and Muller & Poschel expand e in the
+  constant beta of e = 1 - C1 beta + C2 beta^2 - ... whose first coefficient C1 = 1.15344 is
+  exactly the first-order energy coefficient I1(1/2) of our alpha (checked in the tests), so
+  their beta is our alpha.
+* Tsuji: c = alpha sqrt(m* k_Hertz) delta^(1/4) is exactly our Ts alpha.
+
+Adding a formula: write ``def _name(e) -> alpha`` with its reference in the docstring, and add
+a :class:`Formula` line to ``_REGISTERED``.  A formula that has no alpha for some e (a
+quadratic without a real root, a curve that leaves its range) returns NaN there.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+from scipy.optimize import brentq
+from scipy.special import beta as beta_fn
+
+from ..calibration import alpha_from_e, restitution
+from ..collision import check_end
+from ..laws import lookup
+
+__all__ = [
+    "Formula", "FORMULAS", "FormulaAudit", "audit_formula", "exact_alpha", "delivered_e",
+    "first_order_coefficient", "first_order_formula", "get_formula", "hunt_exact_alpha",
+    "antypov_elliott_alpha", "tsuji_polynomial",
+]
+
+SQRT5 = math.sqrt(5.0)
+
+
+def _check_e(e: float) -> float:
+    try:
+        v = float(e)
+    except (TypeError, ValueError):
+        raise ValueError(f"e must be a number in (0, 1]; got {e!r}") from None
+    if not (0.0 < v <= 1.0):
+        raise ValueError(f"e must be a number in (0, 1]; got {e!r}")
+    return v
+
+
+# ----------------------------------------------------------------------------- Hunt-Crossley
+def _hunt_crossley(e: float) -> float:
+    """alpha = 3(1 - e)/2.  K.H. Hunt, F.R.E. Crossley, J. Appl. Mech. 42 (1975) 440;
+    also D.W. Marhefka, D.E. Orin, IEEE Trans. Syst. Man Cybern. A 29 (1999) 566."""
+    return 1.5 * (1.0 - e)
+
+
+def _lee_wang(e: float) -> float:
+    """alpha = 3(1 - e)/4.  T.W. Lee, A.C. Wang, J. Mech. Transm. Autom. Des. 105 (1983) 534."""
+    return 0.75 * (1.0 - e)
+
+
+def _herbert_mcwhannell(e: float) -> float:
+    """alpha = 6(1 - e)/((2e - 1)^2 + 3).  R.G. Herbert, D.C. McWhannell,
+    J. Eng. Ind. 99 (1977) 513."""
+    return 6.0 * (1.0 - e) / ((2.0 * e - 1.0) ** 2 + 3.0)
+
+
+def _lankarani_nikravesh(e: float) -> float:
+    """alpha = 3(1 - e^2)/4.  H.M. Lankarani, P.E. Nikravesh, J. Mech. Des. 112 (1990) 369."""
+    return 0.75 * (1.0 - e * e)
+
+
+def _gonthier(e: float) -> float:
+    """alpha = (1 - e^2)/e.  Y. Gonthier, J. McPhee, C. Lange, J.-C. Piedboeuf,
+    Multibody Syst. Dyn. 11 (2004) 209."""
+    return (1.0 - e * e) / e
+
+
+def _zhiying_qishao(e: float) -> float:
+    """alpha = 3(1 - e^2) exp(2(1 - e))/4.  Q. Zhiying, L. Qishao (2006), as tabulated by Flores et al.,
+    Multibody Syst. Dyn. 25 (2011) 357."""
+    return 0.75 * (1.0 - e * e) * math.exp(2.0 * (1.0 - e))
+
+
+def _flores(e: float) -> float:
+    """alpha = 8(1 - e)/(5e).  P. Flores, M. Machado, M.T. Silva, J.M. Martins,
+    Multibody Syst. Dyn. 25 (2011) 357."""
+    return 8.0 * (1.0 - e) / (5.0 * e)
+
+
+def _gharib_hurmuzlu(e: float) -> float:
+    """alpha = 1/e - 1.  M. Gharib, Y. Hurmuzlu, J. Appl. Mech. (2012)."""
+    return 1.0 / e - 1.0
+
+
+def _hu_guo(e: float) -> float:
+    """alpha = 3(1 - e)/(2e).  S. Hu, X. Guo, Multibody Syst. Dyn. (2015)."""
+    return 1.5 * (1.0 - e) / e
+
+
+def _hunt_residual(a: float, e: float, le: float) -> float:
+    """[ln((1 + a)/(1 - a e)) - (1 + e) a] / a^2, without cancellation.
+
+    Expanding both logarithms, the bracket is sum_{k>=2} a^k (e^k - (-1)^k)/k, so the scaled
+    residual is (e^2 - 1)/2 + a (1 + e^3)/3 + a^2 (e^4 - 1)/4 + ... (summed for small a,
+    where the direct form loses all digits); ``le`` = ln e.
+    """
+    if a < 0.05:
+        total, ak = 0.0, 1.0
+        for k in range(2, 40):
+            ck = math.expm1(k * le) if k % 2 == 0 else math.exp(k * le) + 1.0
+            total += ak * ck / k
+            ak *= a
+        return total
+    return (math.log1p(a) - math.log1p(-a * e) - (1.0 + e) * a) / (a * a)
+
+
+def hunt_exact_alpha(e: float) -> float:
+    """The exact Hunt-Crossley relation (1 + e) alpha = ln((1 + alpha)/(1 - alpha e)), solved for alpha.
+
+    Follows from integrating v dv/dx = -x^(3/2)(1 + alpha v) between the two zero-overlap
+    states; the Hunt force and overlap vanish together, so it holds for both end criteria.
+    A.S. Carvalho, J.M. Martins, Mech. Mach. Theory (2019), after Hunt & Crossley (1975).
+    The root lies in (0, 1/e); for small e it is 1/e to machine precision.
+    """
+    e = _check_e(e)
+    if e == 1.0:
+        return 0.0
+    le = math.log(e)
+    inv = 1.0 / e
+    # the scaled residual is (e^2 - 1)/2 < 0 at 0 and -> +inf at 1/e: find a point where it is > 0
+    delta = 0.5
+    while True:
+        hi = inv * (1.0 - delta)
+        if hi >= inv or delta < 1e-300:
+            return inv  # root indistinguishable from 1/e
+        if _hunt_residual(hi, e, le) > 0:
+            break
+        delta *= 1e-2
+    return brentq(lambda a: _hunt_residual(a, e, le), 0.0, hi, xtol=1e-300, rtol=1e-15, maxiter=500)
+
+
+# ---------------------------------------------------------------------------- Kuwabara-Kono
+_SP_C1, _SP_C2 = 1.15344, 0.79827
+
+
+def _schwager_poschel(e: float) -> float:
+    """Inverse of e = 1 - 1.15344 alpha + 0.79827 alpha^2 (smaller root).
+
+    T. Schwager, T. Poschel, Phys. Rev. E 57 (1998) 650.  No real root for e < 1 - C1^2/(4 C2)
+    = 0.5833: NaN there (the series has no alpha giving such an e).
+    """
+    disc = _SP_C1 * _SP_C1 - 4.0 * _SP_C2 * (1.0 - e)
+    if disc < 0:
+        return math.nan
+    return 2.0 * (1.0 - e) / (_SP_C1 + math.sqrt(disc))  # smaller root, cancellation-free
+
+
+_MP = (0.501086, 1.15345, 0.577977, 0.532178)
+
+
+def muller_poschel_e(alpha: float) -> float:
+    """Pade approximant e(alpha), s = sqrt(alpha):
+    e = (1 + 0.501086 s)/(1 + 0.501086 s + 1.15345 s^2 + 0.577977 s^3 + 0.532178 s^4).
+    P. Muller, T. Poschel, Phys. Rev. E 84 (2011) 021302."""
+    s = math.sqrt(alpha)
+    a, b, c, d = _MP
+    return (1.0 + a * s) / (1.0 + a * s + b * s**2 + c * s**3 + d * s**4)
+
+
+def _muller_poschel(e: float) -> float:
+    """Inverse of the Muller-Poschel Pade approximant (monotone in alpha), by bracketing.
+    P. Muller, T. Poschel, Phys. Rev. E 84 (2011) 021302."""
+    if e == 1.0:
+        return 0.0
+    hi = 1.0
+    while muller_poschel_e(hi) > e:
+        hi *= 4.0
+        if hi > 1e120:  # pragma: no cover - only for e below ~1e-180
+            return math.nan
+    return brentq(lambda a: muller_poschel_e(a) - e, 0.0, hi, xtol=1e-15, rtol=1e-15)
+
+
+# ----------------------------------------------------------------------------------- Tsuji
+def antypov_elliott_alpha(e: float) -> float:
+    """alpha = -sqrt(5) ln e / sqrt(ln^2 e + pi^2).
+
+    Exact for the Tsuji law with the zero-overlap criterion (SPEC section 6).
+    D. Antypov, J.A. Elliott, EPL 94 (2011) 50004.  This is also the formula inside LAMMPS
+    ``coeff_restitution``, LIGGGHTS ``hertz``, Chrono SMC Hertz, DEM-Engine, MercuryDPM and
+    Yade (see :mod:`viscontact.audit.engines`).
+    """
+    le = math.log(e)
+    return -SQRT5 * le / math.sqrt(le * le + math.pi**2)
+
+
+def antypov_elliott_inverse(alpha: float) -> float:
+    """The e that :func:`antypov_elliott_alpha` maps to ``alpha``; ValueError for alpha >= sqrt(5)."""
+    if not (0.0 <= alpha < SQRT5):
+        raise ValueError(f"the Antypov-Elliott formula reaches only alpha < sqrt(5) = {SQRT5:.6f}; "
+                         f"alpha = {alpha:.6g} needs a larger damping than it can express")
+    return math.exp(-math.pi * alpha / math.sqrt(5.0 - alpha * alpha))
+
+
+_TSUJI_COEFFS = (1.2728, -4.2783, 11.087, -22.348, 27.467, -18.022, 4.8218)
+
+
+def tsuji_polynomial(e: float) -> float:
+    """The Tsuji et al. (1992) alpha(e) curve as LAMMPS documents it (Marshall 2009, eq. 53):
+    alpha = 1.2728 - 4.2783 e + 11.087 e^2 - 22.348 e^3 + 27.467 e^4 - 18.022 e^5 + 4.8218 e^6."""
+    return float(np.polynomial.polynomial.polyval(e, _TSUJI_COEFFS))
+
+
+def _tsuji_lammps(e: float) -> float:
+    """Tsuji curve as in the LAMMPS ``pair granular`` documentation (damping tsuji).
+    Y. Tsuji, T. Tanaka, T. Ishida, Powder Technol. 71 (1992) 239; J.S. Marshall,
+    J. Comput. Phys. 228 (2009) 1541, eq. 53; LAMMPS doc/src/pair_granular.rst."""
+    return tsuji_polynomial(e)
+
+
+def _tsuji_lammps_sqrt2(e: float) -> float:
+    """Tsuji curve times sqrt(2), as recent LAMMPS applies it ("effective mass convention").
+    LAMMPS src/GRANULAR/gran_sub_mod_damping.cpp, GranSubModDampingTsuji::init()."""
+    return math.sqrt(2.0) * tsuji_polynomial(e)
+
+
+# ------------------------------------------------------------------------- any law (energy)
+def first_order_coefficient(p: float) -> float:
+    """I1(p) = (5/4)^(2(p+1)/5 - 1) B(2(p+1)/5, 3/2): 1 - e = I1(p) alpha + O(alpha^2).
+
+    The energy dissipated along the undamped Hertz trajectory, to first order in alpha.
+    """
+    q = 2.0 * (p + 1.0) / 5.0
+    return 1.25 ** (q - 1.0) * float(beta_fn(q, 1.5))
+
+
+@dataclass(frozen=True)
+class Formula:
+    """One published calibration alpha(e) for one law.
+
+    Attributes:
+        name: registry key (lower case, hyphenated).
+        title: short human name.
+        model: the viscontact law the alpha belongs to ("Hunt", "KK", "Ts", ..., "power").
+        p: the exponent, only for model "power".
+        derived_for: the end-of-contact criterion the formula was derived or fitted for
+            ("force", "overlap", "both" when they coincide, or None when not stated/approximate).
+        reference: the paper(s).
+        func: e -> alpha (NaN where the formula has no alpha).
+    """
+
+    name: str
+    title: str
+    model: str
+    reference: str
+    func: Callable[[float], float]
+    derived_for: str | None = None
+    p: float | None = None
+
+    def alpha(self, e: float) -> float:
+        """The alpha this formula prescribes for restitution ``e`` (NaN if it prescribes none)."""
+        e = _check_e(e)
+        a = float(self.func(e))
+        if math.isfinite(a) and a < 0:
+            return math.nan
+        return a
+
+    @property
+    def law_label(self) -> str:
+        return f"power (p = {self.p:g})" if self.model == "power" else self.model
+
+
+def first_order_formula(model: str, p: float | None = None) -> Formula:
+    """The first-order energy estimate 1 - e = I1(p) alpha for any law (not Jian)."""
+    law = lookup(model)
+    if law.needs_beta:
+        raise ValueError("the first-order estimate is for laws with g = 1; Jian has a relaxation factor")
+    if law.p is None:
+        if p is None:
+            raise ValueError("model power needs the exponent p (a finite number >= 0)")
+        pp = float(p)
+        if not (math.isfinite(pp) and pp >= 0):
+            raise ValueError(f"p must be a finite number >= 0, got {p!r}")
+    else:
+        if p is not None:
+            raise ValueError(f"model {law.name} has a fixed exponent p = {law.p}; p is only for 'power'")
+        pp = float(law.p)
+    coeff = first_order_coefficient(pp)
+    suffix = law.name.lower() if law.p is not None else f"power-p{pp:g}"
+    return Formula(
+        name=f"first-order-{suffix}", title=f"first-order energy ({law.name})", model=law.name,
+        reference="energy dissipated along the undamped Hertz path, 1 - e = I1(p) alpha",
+        func=lambda e, c=coeff: (1.0 - e) / c, derived_for=None,
+        p=pp if law.p is None else None,
+    )
+
+
+_REGISTERED: tuple[Formula, ...] = (
+    Formula("hunt-crossley", "Hunt-Crossley / Marhefka-Orin", "Hunt",
+            "K.H. Hunt, F.R.E. Crossley, J. Appl. Mech. 42 (1975) 440; D.W. Marhefka, D.E. Orin, "
+            "IEEE Trans. SMC-A 29 (1999) 566", _hunt_crossley),
+    Formula("lee-wang", "Lee-Wang", "Hunt",
+            "T.W. Lee, A.C. Wang, J. Mech. Transm. Autom. Des. 105 (1983) 534", _lee_wang),
+    Formula("herbert-mcwhannell", "Herbert-McWhannell", "Hunt",
+            "R.G. Herbert, D.C. McWhannell, J. Eng. Ind. 99 (1977) 513", _herbert_mcwhannell),
+    Formula("lankarani-nikravesh", "Lankarani-Nikravesh", "Hunt",
+            "H.M. Lankarani, P.E. Nikravesh, J. Mech. Des. 112 (1990) 369", _lankarani_nikravesh),
+    Formula("gonthier", "Gonthier et al.", "Hunt",
+            "Y. Gonthier, J. McPhee, C. Lange, J.-C. Piedboeuf, Multibody Syst. Dyn. 11 (2004) 209",
+            _gonthier),
+    Formula("zhiying-qishao", "Zhiying-Qishao", "Hunt",
+            "Q. Zhiying, L. Qishao (2006), as tabulated by P. Flores et al., Multibody Syst. Dyn. 25 (2011) 357", _zhiying_qishao),
+    Formula("flores", "Flores et al.", "Hunt",
+            "P. Flores, M. Machado, M.T. Silva, J.M. Martins, Multibody Syst. Dyn. 25 (2011) 357",
+            _flores),
+    Formula("gharib-hurmuzlu", "Gharib-Hurmuzlu", "Hunt",
+            "M. Gharib, Y. Hurmuzlu, J. Appl. Mech. (2012)", _gharib_hurmuzlu),
+    Formula("hu-guo", "Hu-Guo", "Hunt", "S. Hu, X. Guo, Multibody Syst. Dyn. (2015)", _hu_guo),
+    Formula("carvalho-martins", "exact Hunt relation (Carvalho-Martins)", "Hunt",
+            "(1+e) alpha = ln((1+alpha)/(1-alpha e)); A.S. Carvalho, J.M. Martins, Mech. Mach. "
+            "Theory (2019)", hunt_exact_alpha, derived_for="both"),
+    Formula("schwager-poschel", "Schwager-Poschel series", "KK",
+            "T. Schwager, T. Poschel, Phys. Rev. E 57 (1998) 650", _schwager_poschel,
+            derived_for="overlap"),
+    Formula("muller-poschel", "Muller-Poschel Pade", "KK",
+            "P. Muller, T. Poschel, Phys. Rev. E 84 (2011) 021302", _muller_poschel,
+            derived_for="force"),
+    Formula("antypov-elliott", "Antypov-Elliott", "Ts",
+            "D. Antypov, J.A. Elliott, EPL 94 (2011) 50004", antypov_elliott_alpha,
+            derived_for="overlap"),
+    Formula("tsuji-lammps", "Tsuji curve (LAMMPS doc)", "Ts",
+            "Y. Tsuji et al., Powder Technol. 71 (1992) 239; J.S. Marshall, J. Comput. Phys. 228 "
+            "(2009) 1541 eq. 53; LAMMPS doc pair_granular", _tsuji_lammps),
+    Formula("tsuji-lammps-sqrt2", "Tsuji curve x sqrt(2) (LAMMPS source)", "Ts",
+            "as tsuji-lammps, times sqrt(2): LAMMPS src/GRANULAR/gran_sub_mod_damping.cpp",
+            _tsuji_lammps_sqrt2),
+) + tuple(first_order_formula(m) for m in ("LH", "Ts", "KK", "Li", "Hunt"))
+
+FORMULAS: dict[str, Formula] = {f.name: f for f in _REGISTERED}
+
+
+def get_formula(name: str, *, model: str | None = None, p: float | None = None) -> Formula:
+    """The registered formula ``name`` (case-insensitive); ``first-order`` takes ``model``/``p``."""
+    if not isinstance(name, str):
+        raise ValueError(f"formula name must be a string, got {name!r}")
+    key = name.strip().lower()
+    if key == "first-order":
+        if model is None:
+            raise ValueError("formula first-order needs a model (--model NAME)")
+        return first_order_formula(model, p)
+    if key in FORMULAS:
+        if model is not None and lookup(model).name != FORMULAS[key].model:
+            raise ValueError(f"formula {key} is for model {FORMULAS[key].model}, not {model}")
+        return FORMULAS[key]
+    raise ValueError(f"unknown formula {name!r}; valid formulas are: first-order, {', '.join(FORMULAS)}")
+
+
+# ------------------------------------------------------------------------- exact numbers
+@lru_cache(maxsize=4096)
+def _exact_alpha_cached(model: str, p: float | None, e: float, end: str) -> float:
+    if model == "Hunt":
+        return hunt_exact_alpha(e)  # exact for both criteria (tested against the solver)
+    try:
+        return float(alpha_from_e(model, e, p=p, end=end))
+    except ValueError:
+        return math.nan
+
+
+def exact_alpha(model: str, e: float, end: str = "force", *, p: float | None = None) -> float:
+    """The alpha that gives exactly ``e`` for ``model`` under ``end`` (NaN if unreachable)."""
+    check_end(end)
+    return _exact_alpha_cached(lookup(model).name, None if p is None else float(p), _check_e(e), end)
+
+
+@lru_cache(maxsize=8192)
+def _delivered_cached(model: str, p: float | None, alpha: float, end: str) -> float:
+    return float(restitution(model, alpha, p=p, end=end))
+
+
+def delivered_e(model: str, alpha: float, end: str = "force", *, p: float | None = None) -> float:
+    """The restitution that ``alpha`` really gives (exact solve); NaN for a NaN alpha."""
+    check_end(end)
+    if not math.isfinite(alpha):
+        return math.nan
+    return _delivered_cached(lookup(model).name, None if p is None else float(p), float(alpha), end)
+
+
+@dataclass(frozen=True)
+class FormulaAudit:
+    """What one formula gives for one target e and one end criterion.
+
+    Attributes:
+        formula, model, end: which formula, law and end criterion (``force``/``overlap``).
+        target_e: the restitution the user asked for.
+        alpha: the formula's alpha (NaN when it has none for this e).
+        delivered_e: the restitution that alpha really produces (exact solve).
+        error: delivered_e - target_e.
+        exact_alpha: the alpha that gives target_e exactly (NaN if unreachable).
+    """
+
+    formula: str
+    model: str
+    end: str
+    target_e: float
+    alpha: float
+    delivered_e: float
+    error: float
+    exact_alpha: float
+    derived_for: str | None = None
+    p: float | None = None
+
+    def to_dict(self) -> dict:
+        return {
+            "formula": self.formula, "model": self.model, "p": self.p, "end": self.end,
+            "derived_for": self.derived_for, "target_e": self.target_e, "alpha": self.alpha,
+            "delivered_e": self.delivered_e, "error": self.error, "exact_alpha": self.exact_alpha,
+        }
+
+
+def audit_formula(formula: Formula | str, e: float, end: str = "force") -> FormulaAudit:
+    """Audit one formula at one target ``e`` under one end criterion."""
+    f = get_formula(formula) if isinstance(formula, str) else formula
+    check_end(end)
+    e = _check_e(e)
+    a = f.alpha(e)
+    d = delivered_e(f.model, a, end, p=f.p)
+    return FormulaAudit(
+        formula=f.name, model=f.model, end=end, target_e=e, alpha=a, delivered_e=d,
+        error=d - e, exact_alpha=exact_alpha(f.model, e, end, p=f.p),
+        derived_for=f.derived_for, p=f.p,
+    )

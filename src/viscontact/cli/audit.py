@@ -1,0 +1,162 @@
+"""Command ``audit``: what a published formula or a DEM-engine setting really delivers."""
+
+from __future__ import annotations
+
+import argparse
+
+from ..audit.engines import ENGINES, Physical, audit_engine, get_preset
+from ..audit.formulas import FORMULAS, audit_formula, get_formula
+from ..solvers import END_CRITERIA
+from .common import print_json
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "audit", help="what published alpha(e) formulas and DEM-engine settings really deliver",
+        description="Audit a published closed-form alpha(e) (--formula) or a DEM-engine damping "
+        "setting (--engine): the alpha it gives, the restitution that alpha really delivers (exact "
+        "solve), the exact alpha, and for engines the value to type to get the target e. "
+        "--all writes the full tables (CSV, Markdown) and plots into a directory.")
+    what = p.add_mutually_exclusive_group(required=True)
+    what.add_argument("--formula", metavar="NAME",
+                      help=f"one of: first-order (with --model), {', '.join(FORMULAS)}")
+    what.add_argument("--engine", metavar="NAME", help=f"one of: {', '.join(ENGINES)}")
+    what.add_argument("--all", action="store_true", help="write every table and plot into --out")
+    p.add_argument("--e", type=float, help="target restitution coefficient in (0, 1]")
+    p.add_argument("--end", choices=END_CRITERIA, default=None,
+                   help="formulas: end criterion of the exact solve (default force)")
+    p.add_argument("--model", default=None, help="formula first-order: the law (LH, Ts, KK, Li, Hunt, power)")
+    p.add_argument("--p", type=float, default=None, help="formula first-order with --model power: exponent")
+    p.add_argument("--damping", metavar="OPTION", default=None,
+                   help="engine damping option; lammps: " + ", ".join(ENGINES["lammps"]))
+    p.add_argument("--limit-damping", action="store_true",
+                   help="LAMMPS: limit_damping (clamp attraction: contact ends at zero force)")
+    p.add_argument("--limit-force", action="store_true",
+                   help="LIGGGHTS: limitForce on (clamp attraction: contact ends at zero force)")
+    p.add_argument("--value", type=float, default=None,
+                   help="engine: the value you type (default: the target e for restitution inputs; for "
+                   "physical dashpots the value calibrated for the zero-overlap criterion)")
+    phys = p.add_argument_group("physical quantities (LAMMPS velocity, mass_velocity, viscoelastic)")
+    phys.add_argument("--m-eff", type=float, help="effective mass m* [kg]")
+    phys.add_argument("--r-eff", type=float, help="effective radius R* [m]")
+    phys.add_argument("--e-eff", type=float, help="effective modulus E* [Pa] (or give --k-hertz)")
+    phys.add_argument("--k-hertz", type=float, help="Hertz stiffness (4/3) E* sqrt(R*) [N/m^1.5]")
+    phys.add_argument("--v", type=float, help="impact speed v_i [m/s]")
+    p.add_argument("--out", default="viscontact-report/audit", metavar="DIR",
+                   help="--all: output directory (default viscontact-report/audit)")
+    p.add_argument("--no-plots", action="store_true", help="--all: tables only")
+    p.add_argument("--grid", type=float, nargs="+", metavar="E",
+                   help="--all: target e values (default 0.05, 0.10, ..., 0.95, 0.99)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(handler=_audit)
+
+
+def _physical(args: argparse.Namespace) -> Physical | None:
+    given = [args.m_eff, args.r_eff, args.e_eff, args.k_hertz, args.v]
+    if all(v is None for v in given):
+        return None
+    missing = [n for n, v in (("--m-eff", args.m_eff), ("--r-eff", args.r_eff), ("--v", args.v)) if v is None]
+    if missing:
+        raise ValueError(f"physical quantities incomplete: missing {', '.join(missing)}")
+    return Physical.build(m_eff=args.m_eff, r_eff=args.r_eff, v=args.v, e_eff=args.e_eff,
+                          k_hertz=args.k_hertz)
+
+
+def _audit(args: argparse.Namespace) -> int:
+    if args.all:
+        return _all(args)
+    if args.e is None:
+        raise ValueError("--e (the target restitution coefficient) is required")
+    if args.grid:
+        raise ValueError("--grid only applies to --all")
+    if args.formula is not None:
+        return _formula(args)
+    return _engine(args)
+
+
+def _no_engine_options(args: argparse.Namespace) -> None:
+    used = [flag for flag, v in (("--damping", args.damping), ("--value", args.value),
+                                 ("--m-eff", args.m_eff), ("--r-eff", args.r_eff), ("--e-eff", args.e_eff),
+                                 ("--k-hertz", args.k_hertz), ("--v", args.v)) if v is not None]
+    used += [f for f, v in (("--limit-damping", args.limit_damping), ("--limit-force", args.limit_force)) if v]
+    if used:
+        raise ValueError(f"{', '.join(used)} only apply to --engine")
+
+
+def _formula(args: argparse.Namespace) -> int:
+    _no_engine_options(args)
+    f = get_formula(args.formula, model=args.model, p=args.p)
+    end = args.end or "force"
+    r = audit_formula(f, args.e, end)
+    if args.json:
+        d = r.to_dict()
+        d["reference"] = f.reference
+        print_json(d)
+        return 0
+    print(f"{f.name} ({f.title}; {f.law_label} law; {f.reference})")
+    print(f"  target e            {r.target_e:.10g}")
+    print(f"  alpha (formula)     {r.alpha:.10g}")
+    print(f"  delivered e         {r.delivered_e:.10g}   (zero-{end} end, exact solve)")
+    print(f"  error               {r.error:+.3e}")
+    print(f"  exact alpha         {r.exact_alpha:.10g}")
+    return 0
+
+
+def _engine(args: argparse.Namespace) -> int:
+    if args.end is not None:
+        raise ValueError("--end is set by the engine; use --limit-damping / --limit-force where the engine has it")
+    if args.model is not None or args.p is not None:
+        raise ValueError("--model/--p only apply to --formula first-order")
+    pre = get_preset(args.engine, args.damping)
+    clamp: bool | None = None
+    for flag, on in (("limit_damping", args.limit_damping), ("limitForce", args.limit_force)):
+        if on:
+            if pre.clamp_flag != flag:
+                raise ValueError(f"--{'limit-damping' if flag == 'limit_damping' else 'limit-force'} "
+                                 f"does not apply to {pre.engine}")
+            clamp = True
+    phys = _physical(args)
+    if phys is not None and not pre.needs_physical:
+        raise ValueError(f"{pre.engine} {pre.option} takes a restitution coefficient; physical "
+                         "quantities are not needed")
+    r = audit_engine(pre.engine, pre.option, args.e, clamp=clamp, physical=phys, value=args.value)
+    if args.json:
+        print_json(r.to_dict())
+        return 0
+    unit = "" if r.input_units == "-" else f" [{r.input_units}]"
+    flag = f", {pre.clamp_flag} {'on' if r.clamp else 'off'}" if pre.clamp_flag else ""
+    print(f"{r.engine} {r.option}{flag}: {r.model} law, contact ends at zero {r.end}")
+    print(f"  mapping: {r.mapping}")
+    print(f"  source:  {r.source}")
+    if r.T is not None:
+        print(f"  T = {r.T:.6g} s")
+    print(f"  target e            {r.target_e:.10g}")
+    print(f"  you type {r.input_name:<10} {r.input_value:.10g}{unit}")
+    print(f"  alpha               {r.alpha:.10g}")
+    print(f"  delivered e         {r.delivered_e:.10g}   (error {r.error:+.3e})")
+    print(f"  exact alpha         {r.exact_alpha:.10g}")
+    print(f"  type instead        {r.input_for_target:.10g}{unit}   (gives e = {r.target_e:g})")
+    if r.note:
+        print(f"  note: {r.note}")
+    return 0
+
+
+def _all(args: argparse.Namespace) -> int:
+    extra = [f for f, v in (("--formula", args.formula), ("--engine", args.engine), ("--e", args.e),
+                            ("--value", args.value), ("--damping", args.damping)) if v is not None]
+    if extra:
+        raise ValueError(f"--all takes no {', '.join(extra)} (it audits everything)")
+    from ..audit.report import DEFAULT_GRID, DEFAULT_PHYSICAL, write_all
+
+    phys = _physical(args) or DEFAULT_PHYSICAL
+    grid = tuple(args.grid) if args.grid else DEFAULT_GRID
+    for e in grid:
+        if not 0.0 < e <= 1.0:
+            raise ValueError(f"--grid values must be in (0, 1]; got {e!r}")
+    paths = write_all(args.out, grid=grid, physical=phys, plots=not args.no_plots)
+    if args.json:
+        print_json({"out": args.out, "files": paths})
+    else:
+        for path in paths:
+            print(path)
+    return 0

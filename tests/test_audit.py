@@ -1,0 +1,353 @@
+"""Calibration audit: formulas, engine presets, report and the ``audit`` command.
+
+Kept to a few dozen exact solves (the reference solver does ~100 collisions/s).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+
+import numpy as np
+import pytest
+
+import viscontact as vc
+from viscontact.audit import formulas as F
+from viscontact.audit import report
+from viscontact.audit.engines import ENGINES, PRESETS, Physical, audit_engine, get_preset
+from viscontact.cli import main
+
+PHYS = Physical(m_eff=0.1547, r_eff=0.03175, k_hertz=1.688e6, v=1.716)  # SPEC ILB ball
+
+
+# ------------------------------------------------------------------ formulas: closed forms
+@pytest.mark.parametrize("name,e,alpha", [
+    ("hunt-crossley", 0.5, 0.75),
+    ("lee-wang", 0.5, 0.375),
+    ("herbert-mcwhannell", 0.5, 1.0),
+    ("herbert-mcwhannell", 0.8, 6 * 0.2 / (0.36 + 3)),
+    ("lankarani-nikravesh", 0.5, 0.5625),
+    ("gonthier", 0.5, 1.5),
+    ("zhiying-qishao", 0.5, 0.5625 * math.e),
+    ("flores", 0.5, 1.6),
+    ("gharib-hurmuzlu", 0.5, 1.0),
+    ("hu-guo", 0.5, 1.5),
+    ("antypov-elliott", 0.5, math.sqrt(5) * math.log(2) / math.sqrt(math.log(2) ** 2 + math.pi**2)),
+    ("tsuji-lammps", 1.0, 0.0003),
+    ("tsuji-lammps", 0.0 + 1e-300, 1.2728),
+    ("tsuji-lammps-sqrt2", 1.0, 0.0003 * math.sqrt(2)),
+])
+def test_formula_values(name, e, alpha):
+    assert F.FORMULAS[name].alpha(e) == pytest.approx(alpha, rel=1e-9, abs=1e-12)
+
+
+def test_registry_has_every_formula_of_the_issue():
+    names = set(F.FORMULAS)
+    for n in ("hunt-crossley", "lee-wang", "herbert-mcwhannell", "lankarani-nikravesh", "gonthier",
+              "zhiying-qishao", "flores", "gharib-hurmuzlu", "hu-guo", "carvalho-martins",
+              "schwager-poschel", "muller-poschel", "antypov-elliott", "tsuji-lammps",
+              "tsuji-lammps-sqrt2", "first-order-lh", "first-order-ts", "first-order-kk",
+              "first-order-li", "first-order-hunt"):
+        assert n in names
+    for f in F.FORMULAS.values():
+        assert f.reference and f.model in vc.LAWS
+        assert f.alpha(1.0) == pytest.approx(0.0, abs=1e-3)  # no damping for e = 1 (Tsuji curve: 3e-4)
+
+
+def test_schwager_poschel_roundtrip_and_no_root():
+    for e in (0.6, 0.8, 0.95):
+        a = F.FORMULAS["schwager-poschel"].alpha(e)
+        assert 1 - 1.15344 * a + 0.79827 * a * a == pytest.approx(e, abs=1e-13)
+    assert math.isnan(F.FORMULAS["schwager-poschel"].alpha(0.5))  # below 1 - C1^2/(4 C2) = 0.5833
+
+
+def test_muller_poschel_roundtrip_and_its_criterion():
+    for e in (0.1, 0.5, 0.95):
+        assert F.muller_poschel_e(F.FORMULAS["muller-poschel"].alpha(e)) == pytest.approx(e, abs=1e-13)
+    # the Pade was fitted to the zero-force (delayed recovery) values: closer to them
+    pade = F.muller_poschel_e(1.0)
+    ef, eo = vc.restitution("KK", 1.0), vc.restitution("KK", 1.0, end="overlap")
+    assert abs(pade - ef) < 0.1 * abs(pade - eo)
+
+
+def test_first_order_coefficient_matches_published_and_the_solver():
+    assert F.first_order_coefficient(0.5) == pytest.approx(1.15344, abs=1e-5)  # Schwager-Poschel C1
+    assert F.first_order_coefficient(1.5) == pytest.approx(2 / 3, rel=1e-14)  # Hunt: 3(1-e)/2
+    a = 1e-4  # slope of e(alpha) at 0 (zero overlap: no early end, the cleanest expansion)
+    for model, p in (("LH", 0.0), ("Li", 1.0)):
+        slope = (1 - vc.restitution(model, a, end="overlap")) / a
+        assert slope == pytest.approx(F.first_order_coefficient(p), rel=2e-4)
+
+
+def test_first_order_generic_and_errors():
+    f = F.get_formula("first-order", model="power", p=0.7)
+    assert f.model == "power" and f.p == 0.7
+    assert f.alpha(0.8) == pytest.approx(0.2 / F.first_order_coefficient(0.7))
+    with pytest.raises(ValueError, match="needs a model"):
+        F.get_formula("first-order")
+    with pytest.raises(ValueError, match="Jian"):
+        F.get_formula("first-order", model="Jian")
+    with pytest.raises(ValueError, match="unknown formula"):
+        F.get_formula("nope")
+    with pytest.raises(ValueError, match="not KK"):
+        F.get_formula("gonthier", model="KK")
+    for bad in (0.0, -0.1, 1.5, float("nan"), "x"):
+        with pytest.raises(ValueError, match=r"\(0, 1\]"):
+            F.FORMULAS["gonthier"].alpha(bad)
+
+
+# ----------------------------------------------------------- exact relations vs the solver
+@pytest.mark.parametrize("e", [0.3, 0.9])
+def test_hunt_exact_relation_matches_solver_both_ends(e):
+    a = F.hunt_exact_alpha(e)
+    for end in ("force", "overlap"):
+        assert vc.restitution("Hunt", a, end=end) == pytest.approx(e, abs=1e-9)
+
+
+@pytest.mark.parametrize("e", [0.3, 0.9])
+def test_antypov_elliott_exact_for_zero_overlap(e):
+    a = F.antypov_elliott_alpha(e)
+    assert vc.restitution("Ts", a, end="overlap") == pytest.approx(e, abs=1e-8)
+    assert vc.restitution("Ts", a, end="force") > e + 1e-3  # the clamp raises e
+    assert F.antypov_elliott_inverse(a) == pytest.approx(e, rel=1e-13)
+
+
+def test_antypov_elliott_inverse_range():
+    with pytest.raises(ValueError, match="sqrt\\(5\\)"):
+        F.antypov_elliott_inverse(2.3)
+
+
+def test_tsuji_polynomial_decreasing():
+    v = [F.tsuji_polynomial(x) for x in np.linspace(0, 1, 2001)]
+    assert np.all(np.diff(v) < 0)
+
+
+# ------------------------------------------------------------------------ audit_formula
+def test_audit_formula_fields():
+    r = F.audit_formula("lankarani-nikravesh", 0.5, "force")
+    assert r.alpha == 0.5625
+    assert r.error == pytest.approx(r.delivered_e - 0.5)
+    assert r.delivered_e == pytest.approx(vc.restitution("Hunt", 0.5625), abs=1e-12)
+    assert r.exact_alpha == pytest.approx(vc.alpha_from_e("Hunt", 0.5), abs=1e-9)
+    assert r.delivered_e > 0.7  # a well-known overestimate at low e
+    nan = F.audit_formula("schwager-poschel", 0.3, "force")
+    assert math.isnan(nan.alpha) and math.isnan(nan.delivered_e) and math.isfinite(nan.exact_alpha)
+
+
+def test_audit_formula_exact_alpha_is_exact():
+    r = F.audit_formula("antypov-elliott", 0.5, "force")
+    assert vc.restitution("Ts", r.exact_alpha) == pytest.approx(0.5, abs=1e-9)
+    with pytest.raises(ValueError, match="end"):
+        F.audit_formula("antypov-elliott", 0.5, "sideways")
+
+
+# ------------------------------------------------------------------------------ engines
+def test_physical_time_scale_and_validation():
+    p = Physical.build(m_eff=0.1547, r_eff=0.03175, k_hertz=1.688e6, v=1.716)
+    assert p.T == pytest.approx((0.1547**2 / (1.688e6**2 * 1.716)) ** 0.2, rel=1e-14)
+    q = Physical.build(m_eff=1.0, r_eff=0.04, e_eff=3.0, v=1.0)
+    assert q.k_hertz == pytest.approx(4 / 3 * 3.0 * 0.2)
+    with pytest.raises(ValueError, match="exactly one"):
+        Physical.build(m_eff=1, r_eff=1, v=1)
+    with pytest.raises(ValueError, match="> 0"):
+        Physical(m_eff=-1, r_eff=1, k_hertz=1, v=1)
+
+
+@pytest.mark.parametrize("key", sorted(PRESETS))
+def test_preset_mapping_roundtrip_and_docs(key):
+    pre = PRESETS[key]
+    assert pre.source and pre.mapping and pre.model in vc.LAWS
+    phys = PHYS if pre.needs_physical else None
+    for alpha in (0.1, 0.3, 0.9):
+        if pre.option.startswith("tsuji") and alpha > pre.to_alpha(1e-12, None):
+            continue
+        x = pre.from_alpha(alpha, phys)
+        assert pre.to_alpha(x, phys) == pytest.approx(alpha, rel=1e-10)
+
+
+def test_speed_dependent_alpha_of_physical_dashpots():
+    """Fixed physical c: LH alpha ~ T, KK alpha ~ 1/T, and T ~ v^(-1/5) (SPEC section 3)."""
+    slow = Physical(m_eff=PHYS.m_eff, r_eff=PHYS.r_eff, k_hertz=PHYS.k_hertz, v=PHYS.v / 32)
+    assert slow.T / PHYS.T == pytest.approx(2.0, rel=1e-12)
+    for opt, ratio in (("velocity", 2.0), ("mass_velocity", 2.0), ("viscoelastic", 0.5)):
+        pre = get_preset("lammps", opt)
+        assert pre.to_alpha(1.0, slow) / pre.to_alpha(1.0, PHYS) == pytest.approx(ratio, rel=1e-12)
+
+
+def test_engine_end_criteria():
+    assert audit_engine("lammps", "coeff_restitution", 0.7).end == "overlap"
+    assert audit_engine("lammps", "coeff_restitution", 0.7, clamp=True).end == "force"
+    assert audit_engine("liggghts", None, 0.7, clamp=True).end == "force"
+    assert audit_engine("chrono", None, 0.7).end == "force"
+    assert audit_engine("yade", None, 0.7).end == "force"
+    assert audit_engine("mercurydpm", None, 0.7).end == "overlap"
+    assert audit_engine("demengine", None, 0.7).end == "overlap"
+    with pytest.raises(ValueError, match="no clamp switch"):
+        audit_engine("chrono", None, 0.7, clamp=False)
+
+
+def test_engine_audit_delivered_and_input_for_target():
+    plain = audit_engine("lammps", "coeff_restitution", 0.5)
+    assert plain.delivered_e == pytest.approx(0.5, abs=1e-8)  # exact without limit_damping
+    assert plain.input_for_target == pytest.approx(0.5, abs=1e-9)
+    lim = audit_engine("lammps", "coeff_restitution", 0.5, clamp=True)
+    assert lim.delivered_e > 0.54
+    pre = get_preset("lammps", "coeff_restitution")
+    assert pre.to_alpha(lim.input_for_target, None) == pytest.approx(lim.exact_alpha, rel=1e-12)
+    assert vc.restitution("Ts", lim.exact_alpha) == pytest.approx(0.5, abs=1e-9)
+
+
+def test_engine_physical_and_value():
+    with pytest.raises(ValueError, match="physical units"):
+        audit_engine("lammps", "velocity", 0.5)
+    r = audit_engine("lammps", "velocity", 0.5, physical=PHYS, clamp=True)
+    assert r.T == pytest.approx(PHYS.T)
+    assert r.input_for_target == pytest.approx(r.exact_alpha * PHYS.m_eff / PHYS.T)
+    given = audit_engine("lammps", "mass_velocity", 0.5, physical=PHYS, value=200.0)
+    assert given.alpha == pytest.approx(200.0 * PHYS.T)
+    with pytest.raises(ValueError, match=">= 0"):
+        audit_engine("lammps", "mass_velocity", 0.5, physical=PHYS, value=-1.0)
+
+
+def test_engine_unreachable_input():
+    # the LAMMPS Tsuji curve tops out at alpha = 1.2728: no e typed gives target 0.05 (clamped)
+    r = audit_engine("lammps", "tsuji", 0.05, clamp=True)
+    assert math.isnan(r.input_for_target) and "no input" in r.note
+
+
+def test_engine_lookup_errors():
+    with pytest.raises(ValueError, match="unknown engine"):
+        get_preset("gromacs")
+    with pytest.raises(ValueError, match="needs a damping option"):
+        get_preset("lammps")
+    with pytest.raises(ValueError, match="no damping option"):
+        get_preset("lammps", "hooke")
+    assert get_preset("LAMMPS", "coeff-restitution").option == "coeff_restitution"
+    assert set(ENGINES) == {"lammps", "liggghts", "mercurydpm", "chrono", "demengine", "yade"}
+
+
+# ------------------------------------------------------------------------------- report
+def test_report_small_grid(tmp_path):
+    paths = report.write_all(str(tmp_path), grid=(0.5,), physical=PHYS, plots=True)
+    names = {p.split("/")[-1] for p in paths}
+    assert names == {"formulas.csv", "formulas.md", "formulas.png", "engines.csv", "engines.md",
+                     "engines.png", "summary.md"}
+    rows = list(csv.DictReader(open(tmp_path / "formulas.csv")))
+    assert len(rows) == 2 * len(F.FORMULAS)
+    assert {"formula", "target_e", "alpha", "delivered_e", "error", "exact_alpha"} <= set(rows[0])
+    erows = list(csv.DictReader(open(tmp_path / "engines.csv")))
+    assert len(erows) == len(report.engine_settings())
+    summary = (tmp_path / "summary.md").read_text()
+    for name in F.FORMULAS:
+        assert f"| {name} |" in summary
+    assert "lammps coeff_restitution +limit_damping" in summary
+
+
+# ---------------------------------------------------------------------------------- CLI
+def _json(capsys, argv):
+    assert main(argv) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_cli_formula_json(capsys):
+    d = _json(capsys, ["audit", "--formula", "lankarani-nikravesh", "--e", "0.5", "--json"])
+    assert {"target_e", "alpha", "delivered_e", "exact_alpha", "error", "end"} <= set(d)
+    assert d["alpha"] == 0.5625 and d["end"] == "force"
+    d = _json(capsys, ["audit", "--formula", "antypov-elliott", "--e", "0.5", "--end", "overlap", "--json"])
+    assert d["delivered_e"] == pytest.approx(0.5, abs=1e-8)
+
+
+def test_cli_engine_json(capsys):
+    d = _json(capsys, ["audit", "--engine", "lammps", "--damping", "coeff_restitution", "--e", "0.7",
+                       "--limit-damping", "--json"])
+    assert {"target_e", "alpha", "delivered_e", "exact_alpha", "input_for_target"} <= set(d)
+    assert d["end"] == "force" and d["delivered_e"] > 0.7
+    d = _json(capsys, ["audit", "--engine", "lammps", "--damping", "velocity", "--e", "0.7", "--m-eff",
+                       "0.1547", "--r-eff", "0.03175", "--k-hertz", "1.688e6", "--v", "1.716", "--json"])
+    assert d["T"] == pytest.approx(PHYS.T) and d["input_for_target"] > 0
+
+
+def test_cli_text_and_all(capsys, tmp_path):
+    assert main(["audit", "--engine", "liggghts", "--e", "0.5", "--limit-force"]) == 0
+    out = capsys.readouterr().out
+    assert "type instead" in out and "zero force" in out
+    assert main(["audit", "--all", "--out", str(tmp_path / "r"), "--grid", "0.9", "--no-plots"]) == 0
+    assert (tmp_path / "r" / "summary.md").exists()
+
+
+@pytest.mark.parametrize("argv", [
+    ["audit", "--formula", "nope", "--e", "0.5"],
+    ["audit", "--formula", "gonthier", "--e", "1.5"],
+    ["audit", "--formula", "gonthier"],
+    ["audit", "--formula", "gonthier", "--e", "0.5", "--limit-damping"],
+    ["audit", "--engine", "lammps", "--e", "0.5"],
+    ["audit", "--engine", "lammps", "--damping", "velocity", "--e", "0.5"],
+    ["audit", "--engine", "lammps", "--damping", "velocity", "--e", "0.5", "--m-eff", "1"],
+    ["audit", "--engine", "chrono", "--e", "0.5", "--limit-damping"],
+    ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "0.5", "--limit-force"],
+    ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "0.5", "--end", "force"],
+    ["audit", "--all", "--e", "0.5"],
+    ["audit", "--all", "--grid", "2"],
+    ["audit", "--e", "0.5"],
+    ["audit", "--formula", "gonthier", "--engine", "lammps", "--e", "0.5"],
+])
+def test_cli_bad_input_one_line_exit_2(capsys, argv):
+    with pytest.raises(SystemExit) if argv in (["audit", "--e", "0.5"],
+                                                ["audit", "--formula", "gonthier", "--engine", "lammps",
+                                                 "--e", "0.5"]) else _NoRaise() as ctx:
+        rc = main(argv)
+    if ctx is not None and getattr(ctx, "value", None) is not None:
+        rc = ctx.value.code
+    assert rc == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "error" in err
+
+
+class _NoRaise:
+    def __enter__(self):
+        return None
+
+    def __exit__(self, *exc):
+        return False
+
+
+# --------------------------------------------------------- properties (no solves: cheap)
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+_E = st.floats(min_value=1e-6, max_value=1.0, exclude_max=True, allow_nan=False)
+
+
+@settings(max_examples=200, deadline=None)
+@given(_E)
+def test_hunt_exact_relation_property(e):
+    a = F.hunt_exact_alpha(e)
+    assert 0 < a <= 1 / e
+    if a * e > 1 - 1e-9:  # small e: the root is 1/e to machine precision
+        assert e < 0.05
+    else:
+        lhs, rhs = (1 + e) * a, math.log1p(a) - math.log1p(-a * e)
+        slope = 1 / (1 + a) + e / (1 - a * e)  # d rhs / d alpha: conditioning near 1/e
+        assert abs(lhs - rhs) <= 1e-13 * (lhs + a * slope)
+    if 1 - e < 1e-6:
+        assert a == pytest.approx(1.5 * (1 - e), rel=1e-5)  # Hunt-Crossley is its first order
+
+
+@settings(max_examples=200, deadline=None)
+@given(_E)
+def test_every_formula_defined_or_nan_and_inverses(e):
+    for f in F.FORMULAS.values():
+        a = f.alpha(e)
+        assert math.isnan(a) or a >= 0
+    assert F.muller_poschel_e(F.FORMULAS["muller-poschel"].alpha(e)) == pytest.approx(e, rel=1e-9)
+    a = F.antypov_elliott_alpha(e)
+    assert F.antypov_elliott_inverse(a) == pytest.approx(e, rel=1e-9)
+    pre = get_preset("lammps", "tsuji")
+    assert pre.to_alpha(pre.from_alpha(pre.to_alpha(e, None), None), None) == pytest.approx(
+        pre.to_alpha(e, None), rel=1e-9)
+
+
+def test_default_grid_spans_the_issue():
+    assert report.DEFAULT_GRID[0] == 0.05 and report.DEFAULT_GRID[-1] == 0.99
+    assert all(e in report.DEFAULT_GRID for e in report.SUMMARY_E)
