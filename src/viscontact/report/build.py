@@ -133,7 +133,7 @@ def _write_all(res: StudyResults, tmp: Path, step: Callable[[str, int], None]) -
     for t in tables:
         (tmp / f"{t.stem}.csv").write_text(t.to_csv(), encoding="utf-8")
         (tmp / f"{t.stem}.md").write_text(t.to_markdown(), encoding="utf-8")
-    write_figures(res, tmp, tick=lambda name: step(f"figure {name}", 1))
+    write_figures(res, tmp, tick=lambda name: step(f"figure {name} done", 1))
     step("index.html", 1)
     (tmp / "index.html").write_text(render_index(res, tables, __version__), encoding="utf-8")
     files = report_files()

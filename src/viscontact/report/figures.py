@@ -7,7 +7,10 @@ Measured values are drawn in black.
 
 from __future__ import annotations
 
+import multiprocessing
+import os
 from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 import numpy as np
@@ -306,14 +309,31 @@ FIGURES: dict[str, tuple[Callable[[StudyResults, Path], None], str]] = {
 }
 
 
+def _draw(res: StudyResults, name: str, out: Path) -> Path:
+    FIGURES[name][0](res, out / name)
+    return out / name
+
+
 def write_figures(res: StudyResults, out: Path, names: Sequence[str] | None = None,
-                  tick: Callable[[str], None] | None = None) -> list[Path]:
-    """Draw the figures (all, or ``names``) into directory ``out``; returns the paths."""
-    paths = []
-    for name in names or FIGURES:
-        draw, _caption = FIGURES[name]
-        if tick:
+                  tick: Callable[[str], None] | None = None, workers: int | None = None) -> list[Path]:
+    """Draw the figures (all, or ``names``) into directory ``out``; returns the paths.
+
+    Rendering dominates a report's run time, so the figures are drawn in ``workers`` forked
+    processes (default: one per core); ``tick(name)`` is called as each one is finished.
+    Where ``fork`` is not available (or ``workers=1``) they are drawn one after another.
+    """
+    names = list(names or FIGURES)
+    tick = tick or (lambda _name: None)
+    workers = min(os.cpu_count() or 1, len(names)) if workers is None else workers
+    if workers <= 1 or "fork" not in multiprocessing.get_all_start_methods():
+        paths = []
+        for name in names:
+            paths.append(_draw(res, name, out))
             tick(name)
-        draw(res, out / name)
-        paths.append(out / name)
-    return paths
+        return paths
+    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork")) as pool:
+        futures = {pool.submit(_draw, res, name, out): name for name in names}
+        for fut in as_completed(futures):
+            fut.result()
+            tick(futures[fut])
+    return [out / name for name in names]
