@@ -46,9 +46,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     f = p.add_argument_group("fit")
     f.add_argument("--laws", nargs="+", default=["all"], metavar="LAW",
                    help=f"laws to fit: 'all' (default: {', '.join(FIT_LAWS)}) or some of them")
-    f.add_argument("--fit-k-hertz", action="store_true",
-                   help="fit k_Hertz too (default: hold it at the value measured from the force "
-                   "at maximum overlap); the global fit always fits it")
+    f.add_argument("--hold-k-hertz", action="store_true",
+                   help="hold k_Hertz at the value measured from the force at maximum overlap "
+                   "(the study's way; default: fit it too); the global fit always fits it")
     f.add_argument("--weights", type=float, nargs=3, default=[1.0, 0.0, 0.0],
                    metavar=("W_F", "W_DELTA", "W_RATE"),
                    help="weights of the force, overlap and overlap-rate residuals, each scaled "
@@ -109,7 +109,7 @@ def _print_recording(m: Measured, fits: list[LawFit]) -> None:
           f"{'tau [ms]':<18} {'rms [N]':>8} {'rms/F_max':>9}")
     for i, f in enumerate(fits, 1):
         c = f"{_pm(f.c, f.c_err)} {f.c_unit}"
-        k = f"   k_Hertz = {_pm(f.k_hertz, f.k_hertz_err)}" if f.k_fitted else ""
+        k = f"   k_Hertz = {_pm(f.k_hertz, f.k_hertz_err)} N/m^1.5" if f.k_fitted else ""
         print(f"  {i:<4} {f.law:<6} {_pm(f.alpha, f.alpha_err):<18} {_pm(f.beta, f.beta_err):<17} "
               f"{_pm(f.p if f.law == 'power' else None, f.p_err):<15} {c:<30} "
               f"{_pm(f.tau, f.tau_err, 1e3):<18} {f.rms:>8.3g} {f.rms_rel:>9.2%}{k}")
@@ -153,7 +153,7 @@ def _fit(args: argparse.Namespace) -> int:
     results: list[list[LawFit]] = []
     for m in measured:
         bar.set_description(Path(m.path).name)
-        results.append(fit_laws(m, laws, fit_k=args.fit_k_hertz, weights=weights,
+        results.append(fit_laws(m, laws, fit_k=not args.hold_k_hertz, weights=weights,
                                 progress=lambda _law: bar.update()))
     globals_: list[GlobalFit] = []
     if glob:

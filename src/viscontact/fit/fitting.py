@@ -75,20 +75,28 @@ class _Param:
     unit: float = 1.0
 
 
-def _residuals(meas: Measured, trace: Trace, t0: float, w: Weights) -> np.ndarray:
-    """Scaled residuals of one recording against one trace started at t0."""
+def _residuals(meas: Measured, trace: Trace, t0: float, w: Weights, offset: float) -> np.ndarray:
+    """Scaled residuals of one recording against one trace started at t0.
+
+    ``offset`` [N] is what is left of the baseline after :func:`measure` removed its
+    estimate; the integrated velocity and overlap are corrected for it from the start on.
+    """
     force, delta, rate = trace.sample(meas.t, t0)
-    parts = [w.force * (meas.force - force) / meas.fmax] if w.force else []
-    if w.overlap:
-        parts.append(w.overlap * (meas.overlap_from(t0) - delta) / meas.dmax)
-    if w.rate:
-        parts.append(w.rate * (meas.velocity - rate) / meas.v)
+    parts = [w.force * (meas.force - offset - force) / meas.fmax] if w.force else []
+    if w.overlap or w.rate:
+        since = np.maximum(meas.t - meas.t_start, 0.0)
+        if w.overlap:
+            measured = meas.overlap_from(t0) + offset * since ** 2 / (2.0 * meas.mass)
+            parts.append(w.overlap * (measured - delta) / meas.dmax)
+        if w.rate:
+            measured = meas.velocity + offset * since / meas.mass
+            parts.append(w.rate * (measured - rate) / meas.v)
     return np.concatenate(parts)
 
 
-def _force_rss(meas: Measured, trace: Trace, t0: float) -> tuple[float, float]:
+def _force_rss(meas: Measured, trace: Trace, t0: float, offset: float) -> tuple[float, float]:
     """(RMS force error [N], RSS of force residuals scaled by F_max)."""
-    r = meas.force - trace.sample(meas.t, t0)[0]
+    r = meas.force - offset - trace.sample(meas.t, t0)[0]
     return float(np.sqrt(np.mean(r * r))), float(np.sum((r / meas.fmax) ** 2))
 
 
@@ -127,7 +135,8 @@ class LawFit:
     Attributes:
         law; alpha, beta (Jian), p (power; the law's fixed p otherwise, p_err None);
         k_hertz [N/m^1.5] (fitted when ``k_fitted``, else the measured value, error None);
-        t0 [s] the fitted contact start; T [s] the time scale; c in ``c_unit``; tau [s] (Jian).
+        t0 [s] the fitted contact start; offset [N] the baseline left after :func:`measure`;
+        T [s] the time scale; c in ``c_unit``; tau [s] (Jian).
         rms [N] force error over the fit window and rms / F_max as ``rms_rel``; bic the
         information criterion of the ranking (lower is better); n_samples, n_params.
         e, tc [s], fmax [N], dmax [m], residual [m]: the law's simulated impact at the fit.
@@ -146,6 +155,8 @@ class LawFit:
     k_fitted: bool
     t0: float
     t0_err: float
+    offset: float
+    offset_err: float
     T: float
     c: float
     c_err: float
@@ -187,7 +198,7 @@ class LawFit:
         d: dict[str, Any] = {"law": self.law}
         for k in ("alpha", "beta", "p", "c", "tau", "rms", "alpha_err", "beta_err", "p_err",
                   "c_err", "tau_err", "c_unit", "k_hertz", "k_hertz_err", "k_fitted", "t0",
-                  "t0_err", "T", "rms_rel", "bic", "n_samples", "n_params", "e", "tc", "fmax",
+                  "t0_err", "offset", "offset_err", "T", "rms_rel", "bic", "n_samples", "n_params", "e", "tc", "fmax",
                   "dmax", "residual", "solves", "converged"):
             v = getattr(self, k)
             d[k] = _nan_to_none(v) if isinstance(v, float) else v
@@ -219,13 +230,15 @@ def _start_guess(law: str, e: float, beta: float | None, p: float | None) -> flo
 
 
 def fit_law(
-    meas: Measured, law: str, *, fit_k: bool = False, weights: Weights = Weights(),
+    meas: Measured, law: str, *, fit_k: bool = True, weights: Weights = Weights(),
     k_hertz: float | None = None, start: dict[str, float] | None = None,
 ) -> LawFit:
     """Fit one law to one recording (see module docstring).
 
-    ``fit_k``: fit k_Hertz too (otherwise it is held at ``k_hertz``, default the measured
-    value).  ``start`` overrides starting values (alpha, beta, p).
+    Besides the law's constants the fit always has the contact start and a remaining
+    baseline offset.  ``fit_k``: fit k_Hertz too (default; otherwise it is held at
+    ``k_hertz``, default the measured value).  ``start`` overrides starting values (alpha,
+    beta, p).
     """
     name = lookup(law).name
     needs_beta = lookup(name).needs_beta
@@ -245,6 +258,7 @@ def fit_law(
     if fit_k:
         params.append(_Param("k", 1.0, 0.5, 2.0, k_ref))
     params.append(_Param("shift", 0.0, -shift_max, shift_max, sample))
+    params.append(_Param("offset", 0.0, -0.05, 0.05, meas.fmax))
     names = [p.name for p in params]
     solves = _Counter()
 
@@ -260,7 +274,7 @@ def fit_law(
 
     def fun(x: np.ndarray) -> np.ndarray:
         q = unpack(x)
-        return _residuals(meas, trace_of(q), meas.t_start + q["shift"], weights)
+        return _residuals(meas, trace_of(q), meas.t_start + q["shift"], weights, q["offset"])
 
     x, cov, res = _least_squares(fun, params)
     q = unpack(x)
@@ -277,7 +291,7 @@ def fit_law(
         qq = unpack(xx)
         return qq["beta"] * time_scale(meas.mass, qq["k"], meas.v)
 
-    rms, rss = _force_rss(meas, trace, t0)
+    rms, rss = _force_rss(meas, trace, t0, q["offset"])
     n = meas.t.size
     T = time_scale(meas.mass, q["k"], meas.v)
     return LawFit(
@@ -285,7 +299,7 @@ def fit_law(
         beta=q.get("beta"), beta_err=err.get("beta"),
         p=trace.impact.p, p_err=err.get("p"),
         k_hertz=q["k"], k_hertz_err=err.get("k"), k_fitted=fit_k,
-        t0=t0, t0_err=err["shift"], T=T,
+        t0=t0, t0_err=err["shift"], offset=q["offset"], offset_err=err["offset"], T=T,
         c=c_of(x), c_err=_propagate(c_of, x, cov), c_unit=damping_unit(trace.impact.p),
         tau=tau_of(x) if needs_beta else None,
         tau_err=_propagate(tau_of, x, cov) if needs_beta else None,
@@ -296,7 +310,7 @@ def fit_law(
 
 
 def fit_laws(
-    meas: Measured, laws: Sequence[str] = FIT_LAWS, *, fit_k: bool = False,
+    meas: Measured, laws: Sequence[str] = FIT_LAWS, *, fit_k: bool = True,
     weights: Weights = Weights(), progress: Callable[[str], None] | None = None,
 ) -> list[LawFit]:
     """Fit each law to one recording; the list is sorted best first (lowest BIC).
@@ -405,6 +419,7 @@ def fit_global(
         shift_max = max(5.0, 0.05 * m.tc * m.rate)
         params.append(_Param(f"shift{i}", (f.t0 - m.t_start) * m.rate, -shift_max, shift_max,
                              1.0 / m.rate))
+        params.append(_Param(f"offset{i}", f.offset / m.fmax, -0.05, 0.05, m.fmax))
     solves = _Counter()
 
     def unpack(x: np.ndarray) -> dict[str, float]:
@@ -425,7 +440,7 @@ def fit_global(
     def fun(x: np.ndarray) -> np.ndarray:
         q = unpack(x)
         return np.concatenate([
-            _residuals(m, tr, m.t_start + q[f"shift{i}"], weights)
+            _residuals(m, tr, m.t_start + q[f"shift{i}"], weights, q[f"offset{i}"])
             for i, (m, tr) in enumerate(zip(measured, traces_of(q)))])
 
     x, cov, res = _least_squares(fun, params)
@@ -433,7 +448,8 @@ def fit_global(
     traces = traces_of(q)
     err = {p.name: math.sqrt(max(cov[i, i], 0.0)) * p.unit for i, p in enumerate(params)}
     t0 = [m.t_start + q[f"shift{i}"] for i, m in enumerate(measured)]
-    stats = [_force_rss(m, tr, s) for m, tr, s in zip(measured, traces, t0)]
+    stats = [_force_rss(m, tr, s, q[f"offset{i}"])
+             for i, (m, tr, s) in enumerate(zip(measured, traces, t0))]
     n = sum(m.t.size for m in measured)
     rss = sum(s[1] for s in stats)
     sq = sum(s[0] ** 2 * m.t.size for s, m in zip(stats, measured))
