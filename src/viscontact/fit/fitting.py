@@ -284,8 +284,10 @@ def fit_law(
 
     def c_of(xx: np.ndarray) -> float:
         qq = unpack(xx)
+        p_of = qq.get("p")  # a difference step may leave the bound p >= 0
         return damping_coefficient(name, max(qq["alpha"], 0.0), m_eff=meas.mass,
-                                   k_hertz=qq["k"], v=meas.v, p=qq.get("p"))
+                                   k_hertz=qq["k"], v=meas.v,
+                                   p=None if p_of is None else max(p_of, 0.0))
 
     def tau_of(xx: np.ndarray) -> float:
         qq = unpack(xx)
