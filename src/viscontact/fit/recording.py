@@ -88,8 +88,9 @@ def _header_unit(name: str) -> str | None:
     m = _UNIT_RE.search(name.strip())
     if m is None:
         return None
-    unit = m.group(1) or m.group(2)
-    return unit if unit in TIME_UNITS or unit in FORCE_UNITS else None
+    if m.group(1):  # a unit in brackets is meant as one: an unknown one is an error later
+        return m.group(1)
+    return m.group(2) if m.group(2) in TIME_UNITS or m.group(2) in FORCE_UNITS else None
 
 
 def _unit(where: str, kind: str, header: str | None, option: str | None, table: dict) -> float:
@@ -344,8 +345,10 @@ def measure(rec: Recording, *, mass: float, v: float, radius: float | None = Non
     i_pk = int(np.argmax(f))
     peak = float(f[i_pk])
     if peak <= 10.0 * noise or peak <= 0:
+        hint = ("; the force dips below the baseline instead: give compression as positive"
+                if -float(np.min(f)) > 10.0 * noise else "")
         raise RecordingError(f"{rec.path}: no contact found: the largest force above the baseline "
-                             f"({peak:.3g} N) is within the noise (sigma {noise:.3g} N)")
+                             f"({peak:.3g} N) is within the noise (sigma {noise:.3g} N){hint}")
     # saturation: several equal samples at the maximum of the raw signal
     top = rec.force[i_pk]
     run_lo, run_hi = i_pk, i_pk
