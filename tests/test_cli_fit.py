@@ -88,6 +88,14 @@ def _noise_only(tmp_path):
         f"{0.02 * i:.3f},{2 + rng.normal():.3f}" for i in range(300)))
 
 
+def _negative(tmp_path):
+    p = tmp_path / "negative.csv"
+    syn = synthetic_file(p)
+    syn.force = -syn.force
+    write_recording(p, syn, ["compression recorded as negative"])
+    return p
+
+
 def _slow(tmp_path):
     p = tmp_path / "slow.csv"
     synthetic_file(p, rate=2e3, pre=0.01, post=0.01)
@@ -106,6 +114,7 @@ def _slow(tmp_path):
     (_noise_only, "quiet.csv: no contact found"),
     (_slow, "slow.csv: only"),
     (_clipped, "the force plate saturates"),
+    (_negative, "give compression as positive"),
 ])
 def test_bad_files_exit_2_with_one_line(tmp_path, capsys, make, expected):
     path = make(tmp_path)

@@ -346,7 +346,7 @@ def measure(rec: Recording, *, mass: float, v: float, radius: float | None = Non
     peak = float(f[i_pk])
     if peak <= 10.0 * noise or peak <= 0:
         hint = ("; the force dips below the baseline instead: give compression as positive"
-                if -float(np.min(f)) > 10.0 * noise else "")
+                if -float(np.min(f)) > 2.0 * peak else "")
         raise RecordingError(f"{rec.path}: no contact found: the largest force above the baseline "
                              f"({peak:.3g} N) is within the noise (sigma {noise:.3g} N){hint}")
     # saturation: several equal samples at the maximum of the raw signal
