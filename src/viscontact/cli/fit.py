@@ -105,14 +105,14 @@ def _print_recording(m: Measured, fits: list[LawFit]) -> None:
     print(f"  measured: e = {m.e:.4f}, t_c = {m.tc * 1e3:.4f} ms, F_max = {m.fmax:.4g} N, "
           f"delta_max = {m.dmax * 1e3:.4f} mm, k_Hertz = {m.k_hertz:.4g} N/m^1.5, "
           f"residual overlap = {m.residual * 1e3:.4f} mm{emod}")
-    print(f"  {'rank':<4} {'law':<6} {'alpha':<18} {'beta':<17} {'p':<15} {'c':<30} "
-          f"{'tau [ms]':<18} {'rms [N]':>8} {'rms/F_max':>9}")
+    print(f"  {'rank':<4} {'law':<6} {'alpha':<17} {'beta':<16} {'p':<15} "
+          f"{'k_Hertz [N/m^1.5]':<20} {'c':<33} {'tau [ms]':<16} {'rms [N]':>8} {'/F_max':>6}")
     for i, f in enumerate(fits, 1):
         c = f"{_pm(f.c, f.c_err)} {f.c_unit}"
-        k = f"   k_Hertz = {_pm(f.k_hertz, f.k_hertz_err)} N/m^1.5" if f.k_fitted else ""
-        print(f"  {i:<4} {f.law:<6} {_pm(f.alpha, f.alpha_err):<18} {_pm(f.beta, f.beta_err):<17} "
-              f"{_pm(f.p if f.law == 'power' else None, f.p_err):<15} {c:<30} "
-              f"{_pm(f.tau, f.tau_err, 1e3):<18} {f.rms:>8.3g} {f.rms_rel:>9.2%}{k}")
+        k = _pm(f.k_hertz, f.k_hertz_err) if f.k_fitted else f"{f.k_hertz:.4g} (held)"
+        print(f"  {i:<4} {f.law:<6} {_pm(f.alpha, f.alpha_err):<17} {_pm(f.beta, f.beta_err):<16} "
+              f"{_pm(f.p if f.law == 'power' else None, f.p_err):<15} {k:<20} {c:<33} "
+              f"{_pm(f.tau, f.tau_err, 1e3):<16} {f.rms:>8.3g} {f.rms_rel:>6.2%}")
 
 
 def _print_global(fits: list[GlobalFit]) -> None:
