@@ -173,25 +173,11 @@ class LawFit:
     message: str
     trace: Trace = field(repr=False)
 
-    @property
-    def e(self) -> float:
-        return self.trace.impact.e
-
-    @property
-    def tc(self) -> float:
-        return self.trace.impact.tc
-
-    @property
-    def fmax(self) -> float:
-        return self.trace.impact.fmax
-
-    @property
-    def dmax(self) -> float:
-        return self.trace.impact.dmax
-
-    @property
-    def residual(self) -> float:
-        return self.trace.impact.residual
+    e = property(lambda self: self.trace.impact.e, doc="e of the simulated impact at the fit")
+    tc = property(lambda self: self.trace.impact.tc, doc="t_c [s] of the simulated impact")
+    fmax = property(lambda self: self.trace.impact.fmax, doc="F_max [N] of the simulated impact")
+    dmax = property(lambda self: self.trace.impact.dmax, doc="delta_max [m], simulated impact")
+    residual = property(lambda self: self.trace.impact.residual, doc="residual overlap [m]")
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: law, alpha, beta, p, c, tau, rms first; None where a field does not apply."""
