@@ -7,7 +7,7 @@ ball's m*, k_Hertz and a 1.716 m/s impact), makes ``--seeds`` recordings with 1 
 2.5 N offset, and prints the worst error over the seeds: measured e (absolute), t_c, F_max,
 delta_max, k_Hertz (relative), and the fitted alpha, k_Hertz (relative), beta (relative),
 p (absolute), with the largest |alpha - truth| / sigma and whether the true law ranked first
-among the study's six laws (with ``--rank``; slower).
+among the study's six laws (with ``--rank``; slower; not for power, which is none of them).
 """
 
 from __future__ import annotations
@@ -55,10 +55,10 @@ def main() -> None:
                             "z_max": (f.alpha - alpha) / f.alpha_err}
                     for c in cols:
                         worst[c] = max(worst[c], abs(errs[c]))
-                    if args.rank:
+                    if args.rank and law != "power":
                         fits = fit_laws(m, [x for x in LAWS if x != "power"])
                         first += fits[0].law == law
-                rank = f"  {first}/{args.seeds}" if args.rank else ""
+                rank = ("  -" if law == "power" else f"  {first}/{args.seeds}") if args.rank else ""
                 print(f"{law:<6} {e_target:>5.3f} {rate / 1e3:>4.0f} "
                       + " ".join(f"{worst[c]:>7.4f}" for c in cols) + rank, flush=True)
 
