@@ -131,10 +131,14 @@ def _print_global(fits: list[GlobalFit]) -> None:
 
 
 def _progress(total: int, quiet: bool):
+    """A tqdm bar on stderr when it is a terminal (one step per law and recording)."""
+    import shutil
+
     from tqdm import tqdm
 
+    columns = shutil.get_terminal_size((100, 20)).columns
     return tqdm(total=total, file=sys.stderr, unit="fit", disable=True if quiet else None,
-                leave=False)
+                leave=False, ncols=min(columns, 110) if columns >= 40 else 100)
 
 
 def _fit(args: argparse.Namespace) -> int:

@@ -378,6 +378,9 @@ def fit_global(
 ) -> GlobalFit:
     """One set of physical constants of ``law`` fitted to all recordings at once.
 
+    Each recording keeps its own contact start and baseline offset; its force residuals are
+    scaled by its own F_max, so a low drop counts as much as a high one.
+
     ``start``: per-recording fits of the same law (their medians start the fit; without
     them each recording is first fitted alone).  ``fit_k``: fit one k_Hertz (else the median
     measured value).  ``sweep_points`` > 0 adds the law's e, t_c, F_max over the speeds of
