@@ -100,6 +100,12 @@ def _force_rss(meas: Measured, trace: Trace, t0: float, offset: float) -> tuple[
     return float(np.sqrt(np.mean(r * r))), float(np.sum((r / meas.fmax) ** 2))
 
 
+def _shift_bound(meas: Measured) -> float:
+    """How far [samples] a fit may move the contact start read from the force: the start of a
+    weak, Hertz-like rise is uncertain by a few samples (more at high rates)."""
+    return max(8.0, 0.08 * meas.tc * meas.rate)
+
+
 def _least_squares(fun: Callable[[np.ndarray], np.ndarray], params: Sequence[_Param]):
     """Run the fit; (optimum x, covariance of x, scipy result)."""
     x0 = np.array([min(max(p.x0, p.lo), p.hi) for p in params])
@@ -235,7 +241,7 @@ def fit_law(
     p0 = start.get("p", 0.5) if free_p else None
     alpha0 = start.get("alpha") or _start_guess(name, meas.e, beta0, p0)
     sample = 1.0 / meas.rate
-    shift_max = max(5.0, 0.05 * meas.tc * meas.rate)
+    shift_max = _shift_bound(meas)
     params = [_Param("alpha", alpha0, 0.0, max(20.0, 10.0 * alpha0))]
     if needs_beta:
         params.append(_Param("beta", beta0, 0.0, 50.0))
@@ -407,7 +413,7 @@ def fit_global(
     if fit_k:
         params.append(_Param("k", 1.0, 0.5, 2.0, k_ref))
     for i, (m, f) in enumerate(zip(measured, start)):
-        shift_max = max(5.0, 0.05 * m.tc * m.rate)
+        shift_max = _shift_bound(m)
         params.append(_Param(f"shift{i}", (f.t0 - m.t_start) * m.rate, -shift_max, shift_max,
                              1.0 / m.rate))
         params.append(_Param(f"offset{i}", f.offset / m.fmax, -0.05, 0.05, m.fmax))
