@@ -41,8 +41,9 @@ __all__ = ["LawFit", "GlobalFit", "fit_law", "fit_laws", "fit_global", "FIT_LAWS
 
 #: the laws ``--laws all`` fits: the study's six and the general power law
 FIT_LAWS: tuple[str, ...] = (*STUDY_MODELS, "power")
-#: relative finite-difference step of the Jacobian: well above the solver's 1e-9 tolerance
-_DIFF_STEP = 1e-5
+#: relative finite-difference steps of the Jacobian, coarse then fine (well above the
+#: solver's 1e-9 tolerance); see :func:`_least_squares`
+_DIFF_STEPS = (1e-2, 1e-5)
 #: least-squares iterations per fit (each costs one solve per parameter that needs one)
 _MAX_NFEV = 40
 
@@ -107,11 +108,18 @@ def _shift_bound(meas: Measured) -> float:
 
 
 def _least_squares(fun: Callable[[np.ndarray], np.ndarray], params: Sequence[_Param]):
-    """Run the fit; (optimum x, covariance of x, scipy result)."""
-    x0 = np.array([min(max(p.x0, p.lo), p.hi) for p in params])
-    res = least_squares(fun, x0, bounds=([p.lo for p in params], [p.hi for p in params]),
-                        x_scale="jac", diff_step=_DIFF_STEP, max_nfev=_MAX_NFEV,
-                        xtol=1e-8, ftol=1e-10, gtol=1e-10)
+    """Run the fit; (optimum x, covariance of x, scipy result).
+
+    Two passes: coarse finite-difference steps first (the cost is rugged on the scale of a
+    sample as samples enter and leave the simulated contact, which stops a fine-step search
+    early), then fine steps from there for the optimum and the Jacobian of the covariance.
+    """
+    lo, hi = [p.lo for p in params], [p.hi for p in params]
+    x = np.array([min(max(p.x0, p.lo), p.hi) for p in params])
+    for step in _DIFF_STEPS:
+        res = least_squares(fun, x, bounds=(lo, hi), x_scale="jac", diff_step=step,
+                            max_nfev=_MAX_NFEV, xtol=1e-8, ftol=1e-10, gtol=1e-10)
+        x = res.x
     dof = max(res.fun.size - len(params), 1)
     s2 = 2.0 * res.cost / dof
     cov = s2 * np.linalg.pinv(res.jac.T @ res.jac)
