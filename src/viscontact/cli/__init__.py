@@ -11,11 +11,11 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from . import audit, core, physical
+from . import audit, core, fit, physical
 
 __all__ = ["main", "COMMANDS", "UserError"]
 
-COMMANDS = (core, physical, audit)
+COMMANDS = (core, physical, fit, audit)
 
 
 class UserError(Exception):

@@ -1,0 +1,209 @@
+"""``viscontact fit``: fit the contact laws to force-plate recordings of impacts."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+from ..dimensional import check_positive, drop_speed
+from ..fit.fitting import FIT_LAWS, GlobalFit, LawFit, Weights, fit_global, fit_laws
+from ..fit.recording import FORCE_UNITS, TIME_UNITS, Measured, measure, read_recording
+from ..fit.synthetic import EXAMPLE, example_recording
+from ..laws import lookup
+from .common import finite_json, print_json, write_atomic
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "fit", help="fit every law to force-plate recordings of impacts",
+        description="Read force-plate recordings (CSV or text: time and force), integrate them "
+        "for the overlap and its rate, report what they say (e, t_c, F_max, delta_max, k_Hertz, "
+        "residual overlap), fit every law by least squares with uncertainties, and rank the "
+        "laws. Several recordings (e.g. one per drop height) also get one global fit of the "
+        "physical constants c, tau, k_Hertz per law.")
+    p.add_argument("recordings", nargs="*", metavar="RECORDING",
+                   help="CSV or whitespace-separated file: time and force columns, '#' comments, "
+                   "optional header with units such as 'time [ms],force [N]'")
+    p.add_argument("--example", action="store_true",
+                   help="fit the example recording that ships with viscontact (a synthetic "
+                   f"{EXAMPLE['model']} drop of the {EXAMPLE['ball']} ball)")
+    b = p.add_argument_group("the impact (SI units)")
+    b.add_argument("--mass", "--m-eff", dest="mass", type=float, metavar="KG", required=True,
+                   help="mass of the ball m* [kg] (a ball on a rigid plate: m* = m)")
+    b.add_argument("--radius", "--r-eff", dest="radius", type=float, metavar="M",
+                   help="radius R* [m] (optional: for the effective modulus E*)")
+    b.add_argument("--velocity", "--v", dest="velocity", type=float, nargs="+", metavar="M/S",
+                   help="impact speed [m/s]: one for all recordings, or one per recording")
+    b.add_argument("--drop-height", dest="drop_height", type=float, nargs="+", metavar="M",
+                   help="drop height [m] instead of --velocity (v = sqrt(2 g h), g = 9.81 m/s^2)")
+    b.add_argument("--time-unit", choices=list(TIME_UNITS), default=None,
+                   help="time unit of the files when their header gives none (default s)")
+    b.add_argument("--force-unit", choices=list(FORCE_UNITS), default=None,
+                   help="force unit of the files when their header gives none (default N)")
+    f = p.add_argument_group("fit")
+    f.add_argument("--laws", nargs="+", default=["all"], metavar="LAW",
+                   help=f"laws to fit: 'all' (default: {', '.join(FIT_LAWS)}) or some of them")
+    f.add_argument("--hold-k-hertz", action="store_true",
+                   help="hold k_Hertz at the value measured from the force at maximum overlap "
+                   "(the study's way; default: fit it too); the global fit always fits it")
+    f.add_argument("--weights", type=float, nargs=3, default=[1.0, 0.0, 0.0],
+                   metavar=("W_F", "W_DELTA", "W_RATE"),
+                   help="weights of the force, overlap and overlap-rate residuals, each scaled "
+                   "by F_max, delta_max, v_i (default 1 0 0: force only)")
+    o = p.add_argument_group("output")
+    o.add_argument("--out", metavar="DIR",
+                   help="write fit.json and the plots (fit_<recording>.png, global.png) into DIR")
+    o.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    o.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
+    p.set_defaults(handler=_fit)
+
+
+def _paths(args: argparse.Namespace) -> list[str]:
+    paths = list(args.recordings) + ([str(example_recording())] if args.example else [])
+    if not paths:
+        raise ValueError("give one or more recordings (or --example)")
+    return paths
+
+
+def _speeds(args: argparse.Namespace, n: int) -> list[float]:
+    if args.velocity is not None and args.drop_height is not None:
+        raise ValueError("give --velocity or --drop-height, not both")
+    if args.velocity is not None:
+        speeds = [check_positive("impact speed --velocity", v) for v in args.velocity]
+    elif args.drop_height is not None:
+        speeds = [drop_speed(h) for h in args.drop_height]
+    else:
+        raise ValueError("give the impact speed: --velocity (m/s) or --drop-height (m)")
+    if len(speeds) == 1:
+        return speeds * n
+    if len(speeds) != n:
+        raise ValueError(f"give one impact speed for all recordings or one per recording "
+                         f"({n} recordings, {len(speeds)} speeds)")
+    return speeds
+
+
+def _laws(names: list[str]) -> list[str]:
+    if [n.lower() for n in names] == ["all"]:
+        return list(FIT_LAWS)
+    return list(dict.fromkeys(lookup(n).name for n in names))
+
+
+def _pm(x: float | None, err: float | None, scale: float = 1.0, fmt: str = ".4g") -> str:
+    if x is None:
+        return "-"
+    s = format(x * scale, fmt)
+    return s if err is None else f"{s} ± {format(err * scale, '.2g')}"
+
+
+def _print_recording(m: Measured, fits: list[LawFit]) -> None:
+    print(f"{m.path}: {m.rate / 1e3:.4g} kHz, {m.n_contact} samples in contact, baseline "
+          f"{m.baseline:.4g} N removed, noise {m.noise:.3g} N, v_i = {m.v:.4g} m/s")
+    emod = "" if m.e_modulus is None else f", E* = {m.e_modulus:.4g} Pa"
+    print(f"  measured: e = {m.e:.4f}, t_c = {m.tc * 1e3:.4f} ms, F_max = {m.fmax:.4g} N, "
+          f"delta_max = {m.dmax * 1e3:.4f} mm, k_Hertz = {m.k_hertz:.4g} N/m^1.5, "
+          f"residual overlap = {m.residual * 1e3:.4f} mm{emod}")
+    print(f"  {'rank':<4} {'law':<6} {'alpha':<17} {'beta':<16} {'p':<15} "
+          f"{'k_Hertz [N/m^1.5]':<20} {'c':<33} {'tau [ms]':<16} {'rms [N]':>8} {'/F_max':>6}")
+    for i, f in enumerate(fits, 1):
+        c = f"{_pm(f.c, f.c_err)} {f.c_unit}"
+        k = _pm(f.k_hertz, f.k_hertz_err) if f.k_fitted else f"{f.k_hertz:.4g} (held)"
+        print(f"  {i:<4} {f.law:<6} {_pm(f.alpha, f.alpha_err):<17} {_pm(f.beta, f.beta_err):<16} "
+              f"{_pm(f.p if f.law == 'power' else None, f.p_err):<15} {k:<20} {c:<33} "
+              f"{_pm(f.tau, f.tau_err, 1e3):<16} {f.rms:>8.3g} {f.rms_rel:>6.2%}")
+
+
+def _print_global(fits: list[GlobalFit]) -> None:
+    print(f"global fit over {len(fits[0].measured)} recordings (one c, tau, k_Hertz per law), "
+          "best first:")
+    print(f"  {'law':<6} {'c':<30} {'tau [ms]':<18} {'k_Hertz [N/m^1.5]':<22} {'rms [N]':>8}  "
+          "e / t_c [ms] / F_max [N] predicted (measured) at each v_i")
+    for g in fits:
+        c = f"{_pm(g.c, g.c_err)} {g.c_unit}"
+        pts = "; ".join(f"{p['v']:.3g} m/s: {p['e_fit']:.3f} ({p['e']:.3f}) / "
+                        f"{p['tc_fit'] * 1e3:.3f} ({p['tc'] * 1e3:.3f}) / "
+                        f"{p['fmax_fit']:.4g} ({p['fmax']:.4g})" for p in g.points())
+        p_txt = f" p = {_pm(g.p, g.p_err)}" if g.law == "power" else ""
+        print(f"  {g.law:<6} {c:<30} {_pm(g.tau, g.tau_err, 1e3):<18} "
+              f"{_pm(g.k_hertz, g.k_hertz_err):<22} {g.rms:>8.3g}  {pts}{p_txt}")
+
+
+def _progress(total: int, quiet: bool):
+    """A tqdm bar on stderr when it is a terminal (one step per law and recording)."""
+    import shutil
+
+    from tqdm import tqdm
+
+    columns = shutil.get_terminal_size((100, 20)).columns
+    return tqdm(total=total, file=sys.stderr, unit="fit", disable=True if quiet else None,
+                leave=False, ncols=min(columns, 110) if columns >= 40 else 100)
+
+
+def _fit(args: argparse.Namespace) -> int:
+    paths = _paths(args)
+    speeds = _speeds(args, len(paths))
+    laws = _laws(args.laws)
+    weights = Weights(*args.weights)
+    out = Path(args.out) if args.out else None
+    if out is not None and out.exists() and not out.is_dir():
+        raise ValueError(f"--out {out} is a file; give a directory")
+    mass = check_positive("--mass", args.mass)
+    measured = [measure(read_recording(p, time_unit=args.time_unit, force_unit=args.force_unit),
+                        mass=mass, v=v, radius=args.radius) for p, v in zip(paths, speeds)]
+    glob = len(measured) > 1
+    bar = _progress(len(measured) * len(laws) + (len(laws) if glob else 0), args.quiet)
+    results: list[list[LawFit]] = []
+    for m in measured:
+        bar.set_description(Path(m.path).name)
+        results.append(fit_laws(m, laws, fit_k=not args.hold_k_hertz, weights=weights,
+                                progress=lambda _law: bar.update()))
+    globals_: list[GlobalFit] = []
+    if glob:
+        for law in laws:
+            bar.set_description(f"global {law}")
+            start = [next(f for f in fits if f.law == law) for fits in results]
+            globals_.append(fit_global(measured, law, start=start, weights=weights))
+            bar.update()
+        globals_.sort(key=lambda g: g.bic)
+    bar.close()
+    doc = _document(measured, results, globals_)
+    if out is not None:
+        _write_outputs(out, measured, results, globals_, doc)
+    if args.json:
+        print_json(doc)
+        return 0
+    for m, fits in zip(measured, results):
+        _print_recording(m, fits)
+    if globals_:
+        _print_global(globals_)
+    return 0
+
+
+def _document(measured: list[Measured], results: list[list[LawFit]],
+              globals_: list[GlobalFit]) -> dict[str, Any]:
+    """The JSON object: one recording -> {file, measured, laws}; several -> recordings, global."""
+    per = [{"file": m.path, "measured": m.to_dict(), "laws": [f.to_dict() for f in fits]}
+           for m, fits in zip(measured, results)]
+    if len(per) == 1:
+        return per[0]
+    return {"recordings": per, "global": [g.to_dict() for g in globals_]}
+
+
+def _write_outputs(out: Path, measured: list[Measured], results: list[list[LawFit]],
+                   globals_: list[GlobalFit], doc: dict[str, Any]) -> None:
+    from ..fit.plots import plot_fit, plot_global
+
+    out.mkdir(parents=True, exist_ok=True)
+    stems: dict[str, int] = {}
+    for m, fits in zip(measured, results):
+        stem = Path(m.path).stem
+        stems[stem] = stems.get(stem, 0) + 1
+        name = f"fit_{stem}" + (f"_{stems[stem]}" if stems[stem] > 1 else "") + ".png"
+        write_atomic(str(out / name), lambda tmp, m=m, fits=fits: plot_fit(m, fits, tmp))
+    if globals_:
+        write_atomic(str(out / "global.png"), lambda tmp: plot_global(globals_, tmp))
+    text = json.dumps(finite_json(doc), indent=2) + "\n"
+    write_atomic(str(out / "fit.json"), lambda tmp: tmp.write_text(text, encoding="utf-8"))
+    print(f"fit.json and plots written to {out}/", file=sys.stderr)
