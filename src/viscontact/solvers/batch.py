@@ -161,6 +161,7 @@ def _solve_range(alpha, beta, lo, hi, p, m, n_damp, q, force_end, rtol, atol, t_
     Y0 = np.zeros((_NV, C))  # state at the start of the current step
     Y1 = np.zeros((_NV, C))  # trial state at its end
     YS = np.zeros((_NV, C))  # stage state
+    E = np.zeros((_NV, C))  # error estimate
     K = np.zeros((_NS + 1, _NV, C))
     h, sig, a, b = np.zeros(C), np.zeros(C), np.zeros(C), np.zeros(C)
     err, fac, fend = np.zeros(C), np.zeros(C), np.zeros(C)
@@ -187,39 +188,66 @@ def _solve_range(alpha, beta, lo, hi, p, m, n_damp, q, force_end, rtol, atol, t_
         # --- one Runge-Kutta step in every live slot (plain loops over slots) ---
         for i in range(1, _NS + 1):
             last = i == _NS  # the solution; its right-hand side is the next step's first stage
-            for c in range(_NV):
-                acc = Y1[c] if last else YS[c]
-                k0 = K[0, c]
-                w = _B[0] if last else _A[i, 0]
-                for l in range(n):
-                    acc[l] = w * k0[l]
-                for j in range(1, i):
-                    kj = K[j, c]
-                    w = _B[j] if last else _A[i, j]
+            Yt = Y1 if last else YS
+            u0, u1, u2, u3 = Yt[0], Yt[1], Yt[2], Yt[3]
+            for j in range(i):
+                w = _B[j] if last else _A[i, j]
+                k0, k1, k2, k3 = K[j, 0], K[j, 1], K[j, 2], K[j, 3]
+                if j == 0:
                     for l in range(n):
-                        acc[l] += w * kj[l]
-                y0 = Y0[c]
+                        u0[l] = w * k0[l]
+                        u1[l] = w * k1[l]
+                        u2[l] = w * k2[l]
+                        u3[l] = w * k3[l]
+                else:
+                    for l in range(n):
+                        u0[l] += w * k0[l]
+                        u1[l] += w * k1[l]
+                        u2[l] += w * k2[l]
+                        u3[l] += w * k3[l]
+            y0, y1, y2, y3 = Y0[0], Y0[1], Y0[2], Y0[3]
+            for l in range(n):
+                hl = h[l]
+                u0[l] = y0[l] + hl * u0[l]
+                u1[l] = y1[l] + hl * u1[l]
+                u2[l] = y2[l] + hl * u2[l]
+                u3[l] = y3[l] + hl * u3[l]
+            _rhs_slots(Yt, K, i, n, a, b, p, m, n_damp, relax)
+        # --- error estimate of the 8(5,3) pair (as scipy's DOP853): differences in YS
+        # (5th order) and E (3rd order), then the norms over the components ---
+        for j in range(_NS + 1):
+            c5 = _E5[j]
+            c3 = _E3[j]
+            k0, k1, k2, k3 = K[j, 0], K[j, 1], K[j, 2], K[j, 3]
+            if j == 0:
                 for l in range(n):
-                    acc[l] = y0[l] + h[l] * acc[l]
-            _rhs_slots(Y1 if last else YS, K, i, n, a, b, p, m, n_damp, relax)
-        # --- error estimate of the 8(5,3) pair (as scipy's DOP853) ---
+                    YS[0, l] = c5 * k0[l]
+                    YS[1, l] = c5 * k1[l]
+                    YS[2, l] = c5 * k2[l]
+                    YS[3, l] = c5 * k3[l]
+                    E[0, l] = c3 * k0[l]
+                    E[1, l] = c3 * k1[l]
+                    E[2, l] = c3 * k2[l]
+                    E[3, l] = c3 * k3[l]
+            else:
+                for l in range(n):
+                    YS[0, l] += c5 * k0[l]
+                    YS[1, l] += c5 * k1[l]
+                    YS[2, l] += c5 * k2[l]
+                    YS[3, l] += c5 * k3[l]
+                    E[0, l] += c3 * k0[l]
+                    E[1, l] += c3 * k1[l]
+                    E[2, l] += c3 * k2[l]
+                    E[3, l] += c3 * k3[l]
         for l in range(n):
-            err[l] = 0.0
-            fac[l] = 0.0  # e3 accumulator
-        for c in range(_NV):
-            for l in range(n):
-                YS[0, l] = 0.0
-                YS[1, l] = 0.0
-            for j in range(_NS + 1):
-                c5 = _E5[j]
-                c3 = _E3[j]
-                for l in range(n):
-                    YS[0, l] += c5 * K[j, c, l]
-                    YS[1, l] += c3 * K[j, c, l]
-            for l in range(n):
+            e5 = 0.0
+            e3 = 0.0
+            for c in range(_NV):
                 sc = atol + rtol * max(abs(Y0[c, l]), abs(Y1[c, l]))
-                err[l] += (YS[0, l] / sc) ** 2
-                fac[l] += (YS[1, l] / sc) ** 2
+                e5 += (YS[c, l] / sc) ** 2
+                e3 += (E[c, l] / sc) ** 2
+            err[l] = e5
+            fac[l] = e3
         _force_scaled_slots(Y1, fend, n, a, b, p, m, q, n_damp)
         # --- accept or reject (vectorised); crossings and locating slots are special ---
         for l in range(n):
