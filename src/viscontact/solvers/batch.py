@@ -52,7 +52,7 @@ __all__ = ["BatchResult", "solve_batch", "solve_batch_one", "BATCH_RTOL"]
 BATCH_RTOL: float = 1e-9
 #: Collisions advanced in lockstep by one thread (slots of structure-of-arrays state).
 _SLOTS: int = 128
-#: Collisions per parallel work item (threads take chunks; slots refill within a chunk).
+#: Fewest collisions per parallel work item (threads take chunks; slots refill within one).
 _CHUNK: int = 2048
 #: First step in sigma (the solution is a power series in sigma at the start).
 _H0: float = 0.1
@@ -357,13 +357,13 @@ def _load(l, k, alpha, beta, a, b, Y0, K, h, sig, rejected, locating, nsteps, id
 
 
 @numba.njit(cache=True, nogil=True, parallel=True)
-def _solve_all(alpha, beta, p, m, n_damp, q, force_end, rtol, atol, t_max,
+def _solve_all(alpha, beta, chunk, p, m, n_damp, q, force_end, rtol, atol, t_max,
                e_out, tc_out, res_out, w_out, sep_out, steps_out):
     n = alpha.size
-    n_chunks = (n + _CHUNK - 1) // _CHUNK
+    n_chunks = (n + chunk - 1) // chunk
     for c in prange(n_chunks):
-        lo = c * _CHUNK
-        hi = min(n, lo + _CHUNK)
+        lo = c * chunk
+        hi = min(n, lo + chunk)
         _solve_range(alpha, beta, lo, hi, p, m, n_damp, q, force_end, rtol, atol, t_max,
                      e_out, tc_out, res_out, w_out, sep_out, steps_out)
 
@@ -400,7 +400,9 @@ def solve_batch(
     if not 0 <= n_damp < INT_POW_LIMIT:
         n_damp = -1
     if n:
-        _solve_all(a, b, p, m, n_damp, q, end == "force", rtol, rtol * 1e-2, T_MAX,
+        # a few chunks per thread: balanced, and few half-empty tails of slots
+        chunk = max(_CHUNK, -(-n // (4 * numba.get_num_threads())))
+        _solve_all(a, b, chunk, p, m, n_damp, q, end == "force", rtol, rtol * 1e-2, T_MAX,
                    e, tc, res, w, sep, steps)
         over = np.flatnonzero(steps > _MAX_STEPS)
         if over.size:
