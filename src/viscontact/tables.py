@@ -1,0 +1,783 @@
+"""Precomputed interpolation tables of e(alpha) (and e(alpha, beta) for Jian), built from the exact solver.
+
+A table is a set of Chebyshev pieces over alpha in [0, ALPHA_TABLE_MAX].  Each piece lives in
+its own variable y, chosen so that e is analytic (or at least very smooth) in y:
+
+- ``POWER`` y = alpha^(1/k) on [0, 1].  Under the zero-force end the contact stops where
+  s^k + alpha g v = 0 (x = s^m, k = m (3/2 - p), see :mod:`viscontact.kernels`), so the end
+  point and e are power series in alpha^(1/k); under the zero-overlap end (and for Hunt, whose
+  force vanishes only with the overlap) the regularised equations are polynomial in alpha and
+  k = 1.  For Jian, beta near 0 uses y = beta^(1/2) (the switch-on factor enters through
+  t / beta, and t ~ s^2 near the start).
+- ``LOG`` y = log(alpha) above 1 (the decay of e at large damping is smooth in log alpha).
+- ``CRIT`` y = -(alpha_c - alpha)^(1/2) just below a critical alpha_c beyond which a zero-overlap
+  contact never separates (LH, Tsuji): e vanishes there (like (alpha_c - alpha) for LH, faster
+  than any power for Tsuji).
+- ``ZERO`` e = 0 on [alpha_c, ALPHA_TABLE_MAX], where the exact solver reports no rebound.
+
+Pieces are refined adaptively (halved in y) until the trailing Chebyshev coefficients fall
+below ``_TAIL_TOL``; the finished table is checked against the exact solver on held-out
+random points, piece boundaries and tiny alpha, and refused if any error exceeds
+``VERIFY_TOL`` = 1e-10.  Tables are cached on disk (see :func:`cache_dir`) under a key that
+hashes the source of every module that determines the values, so a code change rebuilds them.
+
+Evaluation and inversion are compiled (numba, parallel over the input array).  The inverse
+alpha(e) is a safeguarded Newton iteration on the (monotone decreasing) interpolant, started
+from a dense sample of each piece.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+import sys
+import tempfile
+import threading
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+import numba
+import numpy as np
+from numpy.polynomial import chebyshev as npcheb
+
+__all__ = [
+    "ALPHA_TABLE_MAX", "BETA_TABLE_MAX", "VERIFY_TOL", "TABLE_LAWS", "Table", "build_all",
+    "cache_dir", "code_key", "enabled", "get_table", "clear_memory",
+]
+
+#: alpha (and beta, Jian) range the tables cover; outside it the exact solver answers.
+ALPHA_TABLE_MAX = 10.0
+BETA_TABLE_MAX = 10.0
+#: largest |e_table - e_exact| a table may show on its held-out points.
+VERIFY_TOL = 1e-10
+#: laws with a table (the general power law has a free exponent: no table).
+TABLE_LAWS: tuple[str, ...] = ("LH", "Ts", "KK", "Li", "Hunt", "Jian")
+#: switch the tables off (every call goes to the exact solver); tests compare both paths.
+enabled: bool = True
+
+POWER, LOG, CRIT, ZERO = 0, 1, 2, 3
+_NODES_1D = 24  # Chebyshev points per 1D piece
+_NODES_2D = (16, 16)  # per 2D piece, (alpha, beta)
+_TAIL_TOL = 1e-12  # accept a piece when its last coefficients are below this (|e| <= 1)
+_TAIL_TERMS = 3
+_MAX_ROUNDS = 12  # refinement rounds (each halves the pieces that fail)
+_NODE_RTOL = 3e-14  # solver tolerance for the nodes (e to ~1e-14; scipy floors rtol at 2.2e-14)
+_CRIT_WIDTH = 0.1  # width in alpha of the CRIT piece below alpha_c
+_INVERSE_SAMPLES = 128  # dense samples per piece that start the Newton inversion
+_FORMAT = 1  # bump when the file layout changes
+
+_jit = numba.njit(cache=True, fastmath=False, nogil=True)
+_pjit = numba.njit(cache=True, fastmath=False, nogil=True, parallel=True)
+
+
+# --------------------------------------------------------------------------------------------
+# Compiled evaluation: piece maps, Clenshaw sums, location, the parallel drivers.
+# --------------------------------------------------------------------------------------------
+
+
+@_jit
+def _to_unit(x: float, kind: int, order: float, anchor: float, ylo: float, yhi: float) -> float:
+    """Map x (alpha or beta) in a piece to xi in [-1, 1] through the piece's variable y."""
+    if kind == POWER:
+        y = x if order == 1.0 else x ** (1.0 / order)
+    elif kind == LOG:
+        y = math.log(x)
+    elif kind == CRIT:  # y grows with x, as in every piece
+        y = -math.sqrt(max(anchor - x, 0.0))
+    else:
+        return 0.0
+    xi = (2.0 * y - (ylo + yhi)) / (yhi - ylo)
+    return min(1.0, max(-1.0, xi))
+
+
+@_jit
+def _from_unit(xi: float, kind: int, order: float, anchor: float, ylo: float, yhi: float) -> float:
+    """Inverse of :func:`_to_unit` (x from xi)."""
+    y = 0.5 * (ylo + yhi) + 0.5 * (yhi - ylo) * xi
+    if kind == POWER:
+        return y if order == 1.0 else max(y, 0.0) ** order
+    if kind == LOG:
+        return math.exp(y)
+    if kind == CRIT:
+        return anchor - y * y
+    return y  # ZERO: y = x
+
+
+@_jit
+def _cheb(c, xi: float) -> float:
+    """sum_k c_k T_k(xi) by Clenshaw's recurrence."""
+    b1 = 0.0
+    b2 = 0.0
+    x2 = 2.0 * xi
+    for k in range(c.shape[0] - 1, 0, -1):
+        b1, b2 = x2 * b1 - b2 + c[k], b1
+    return xi * b1 - b2 + c[0]
+
+
+@_jit
+def _cheb_d(c, xi: float):
+    """(sum_k c_k T_k(xi), its derivative in xi): Clenshaw for T and for U (T_k' = k U_{k-1})."""
+    n = c.shape[0]
+    b1 = 0.0
+    b2 = 0.0
+    d1 = 0.0
+    d2 = 0.0
+    x2 = 2.0 * xi
+    for k in range(n - 1, 0, -1):
+        d1, d2 = x2 * d1 - d2 + k * c[k], d1
+        b1, b2 = x2 * b1 - b2 + c[k], b1
+    return xi * b1 - b2 + c[0], d1
+
+
+@_jit
+def _locate(breaks, x: float) -> int:
+    """Index i with breaks[i] <= x <= breaks[i+1] (x inside [breaks[0], breaks[-1]])."""
+    lo = 0
+    hi = breaks.shape[0] - 2
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if breaks[mid] <= x:
+            lo = mid
+        else:
+            hi = mid - 1
+    return lo
+
+
+@_jit
+def _eval1(breaks, kind, order, anchor, ylo, yhi, coef, x: float) -> float:
+    if not (0.0 <= x <= breaks[-1]):
+        return math.nan
+    i = _locate(breaks, x)
+    return _cheb(coef[i], _to_unit(x, kind[i], order[i], anchor[i], ylo[i], yhi[i]))
+
+
+@_pjit
+def _eval1_many(breaks, kind, order, anchor, ylo, yhi, coef, x, out):
+    """out = e(x) for every element (NaN outside the table)."""
+    for j in numba.prange(x.shape[0]):
+        out[j] = _eval1(breaks, kind, order, anchor, ylo, yhi, coef, x[j])
+
+
+@_jit
+def _solve_piece(c, target: float, xa: float, xb: float, ea: float, eb: float) -> float:
+    """xi in [xa, xb] with sum c_k T_k(xi) = target, the sum decreasing from ea to eb there.
+
+    Newton's method, kept inside a shrinking bracket (bisection when a step leaves it).
+    """
+    if ea <= eb:
+        return xa
+    xi = xa + (xb - xa) * (ea - target) / (ea - eb)
+    for _ in range(60):
+        f, df = _cheb_d(c, xi)
+        f -= target
+        if f > 0.0:
+            xa = xi
+        else:
+            xb = xi
+        if f == 0.0 or xb - xa <= 4e-16:
+            break
+        new = xi - f / df if df < 0.0 else math.nan
+        if not (xa < new < xb):
+            new = 0.5 * (xa + xb)
+        done = abs(new - xi) <= 2e-15
+        xi = new
+        if done:
+            break
+    return xi
+
+
+@_jit
+def _invert1(breaks, kind, order, anchor, ylo, yhi, coef, samples, target: float) -> float:
+    """alpha with e_table(alpha) = target; NaN when the target is below the table's e range.
+
+    ``samples[i]`` holds e at evenly spaced xi in piece i; e decreases along every piece
+    (the piece variables all grow with alpha) and from piece to piece.
+    """
+    npc = coef.shape[0]
+    ns = samples.shape[1]
+    if target >= samples[0, 0]:
+        return 0.0
+    lo = 0
+    hi = npc - 1
+    while lo < hi:  # the last piece whose first sample is >= target
+        mid = (lo + hi + 1) // 2
+        if samples[mid, 0] >= target:
+            lo = mid
+        else:
+            hi = mid - 1
+    i = lo
+    s = samples[i]
+    if target < s[ns - 1]:  # between pieces (they agree to ~1e-12) or below the table
+        if i + 1 < npc and kind[i + 1] != ZERO:
+            return breaks[i + 1]
+        return math.nan
+    a = 0
+    b = ns - 1
+    while b - a > 1:
+        mid = (a + b) // 2
+        if s[mid] >= target:
+            a = mid
+        else:
+            b = mid
+    xi = _solve_piece(coef[i], target, -1.0 + 2.0 * a / (ns - 1), -1.0 + 2.0 * b / (ns - 1),
+                      s[a], s[b])
+    return _from_unit(xi, kind[i], order[i], anchor[i], ylo[i], yhi[i])
+
+
+@_pjit
+def _invert1_many(breaks, kind, order, anchor, ylo, yhi, coef, samples, e, out):
+    for j in numba.prange(e.shape[0]):
+        out[j] = _invert1(breaks, kind, order, anchor, ylo, yhi, coef, samples, e[j])
+
+
+@_jit
+def _basis(xi: float, t):
+    """t[l] = T_l(xi) for every l."""
+    t[0] = 1.0
+    if t.shape[0] > 1:
+        t[1] = xi
+    for k in range(2, t.shape[0]):
+        t[k] = 2.0 * xi * t[k - 1] - t[k - 2]
+
+
+@_jit
+def _rows(c, tb, r):
+    """r[k] = sum_l c[k, l] tb[l]: a 2D piece reduced to a Chebyshev series in alpha."""
+    for k in range(c.shape[0]):
+        acc = 0.0
+        for l in range(c.shape[1]):
+            acc += c[k, l] * tb[l]
+        r[k] = acc
+
+
+@_jit
+def _unit2(ax, x: float):
+    """(piece index, xi) of x on an axis (breaks, kind, order, anchor, ylo, yhi)."""
+    i = _locate(ax[0], x)
+    return i, _to_unit(x, ax[1][i], ax[2][i], ax[3][i], ax[4][i], ax[5][i])
+
+
+@_jit
+def _eval2(ax, bx, coef, a: float, b: float, tb, r) -> float:
+    if not (0.0 <= a <= ax[0][-1] and 0.0 <= b <= bx[0][-1]):
+        return math.nan
+    i, xa = _unit2(ax, a)
+    j, xb = _unit2(bx, b)
+    _basis(xb, tb)
+    _rows(coef[i, j], tb, r)
+    return _cheb(r, xa)
+
+
+@_jit
+def _dot(c, t) -> float:
+    acc = 0.0
+    for l in range(t.shape[0]):
+        acc += c[l] * t[l]
+    return acc
+
+
+@_jit
+def _invert2(ax, bx, coef, edges, e: float, b: float, tb, r) -> float:
+    """alpha with e_table(alpha, b) = e; NaN outside the table.
+
+    ``edges[i, j, 0]`` and ``edges[i, j, 1]`` are the beta series of e at the left and right
+    end of alpha piece i, so the piece is found without reducing every piece.
+    """
+    if not (0.0 <= b <= bx[0][-1]):
+        return math.nan
+    j, xb = _unit2(bx, b)
+    _basis(xb, tb)
+    npc = coef.shape[0]
+    top = _dot(edges[0, j, 0], tb)
+    if e >= top:
+        return 0.0
+    lo = 0
+    hi = npc - 1
+    e_lo = top
+    while lo < hi:  # the last piece whose left end has e >= target
+        mid = (lo + hi + 1) // 2
+        v = _dot(edges[mid, j, 0], tb)
+        if v >= e:
+            lo = mid
+            e_lo = v
+        else:
+            hi = mid - 1
+    e_hi = _dot(edges[lo, j, 1], tb)
+    if e < e_hi:  # between two pieces that agree to ~1e-12, or below the table
+        return ax[0][lo + 1] if lo + 1 < npc else math.nan
+    _rows(coef[lo, j], tb, r)
+    xi = _solve_piece(r, e, -1.0, 1.0, e_lo, e_hi)
+    return _from_unit(xi, ax[1][lo], ax[2][lo], ax[3][lo], ax[4][lo], ax[5][lo])
+
+
+@_pjit
+def _eval2_many(ax, bx, coef, a, b, out):
+    n = a.shape[0]
+    chunks = 8 * numba.get_num_threads()
+    size = (n + chunks - 1) // chunks
+    for ch in numba.prange(chunks):
+        tb = np.empty(coef.shape[3])
+        r = np.empty(coef.shape[2])
+        for j in range(ch * size, min(n, (ch + 1) * size)):
+            out[j] = _eval2(ax, bx, coef, a[j], b[j], tb, r)
+
+
+@_pjit
+def _invert2_many(ax, bx, coef, edges, e, b, out):
+    n = e.shape[0]
+    chunks = 8 * numba.get_num_threads()
+    size = (n + chunks - 1) // chunks
+    for ch in numba.prange(chunks):
+        tb = np.empty(coef.shape[3])
+        r = np.empty(coef.shape[2])
+        for j in range(ch * size, min(n, (ch + 1) * size)):
+            out[j] = _invert2(ax, bx, coef, edges, e[j], b[j], tb, r)
+
+
+# --------------------------------------------------------------------------------------------
+# Tables: data, evaluation, inversion.
+# --------------------------------------------------------------------------------------------
+
+_AXIS_FIELDS = ("breaks", "kind", "order", "anchor", "ylo", "yhi")
+
+
+@dataclass(frozen=True)
+class Piece:
+    """One interval of an axis, in its own variable y (see the module docstring)."""
+
+    kind: int
+    order: float  # k of y = x^(1/k) (POWER)
+    anchor: float  # alpha_c (CRIT)
+    ylo: float
+    yhi: float
+
+    def x_at(self, xi: np.ndarray | float) -> np.ndarray:
+        """Points x (alpha or beta) at unit coordinates xi."""
+        return np.vectorize(_from_unit, otypes=[float])(
+            xi, self.kind, self.order, self.anchor, self.ylo, self.yhi)
+
+    def halves(self) -> tuple[Piece, Piece]:
+        mid = 0.5 * (self.ylo + self.yhi)
+        return (Piece(self.kind, self.order, self.anchor, self.ylo, mid),
+                Piece(self.kind, self.order, self.anchor, mid, self.yhi))
+
+
+def _axis(pieces: list[Piece]) -> tuple[np.ndarray, ...]:
+    """The compiled kernels' axis tuple (breaks, kind, order, anchor, ylo, yhi)."""
+    pieces = sorted(pieces, key=lambda pc: float(pc.x_at(-1.0)))
+    breaks = np.array([float(pc.x_at(-1.0)) for pc in pieces] + [float(pieces[-1].x_at(1.0))])
+    breaks[0] = 0.0
+    return (breaks, np.array([pc.kind for pc in pieces], dtype=np.int64),
+            *(np.array([getattr(pc, f) for pc in pieces], dtype=float)
+              for f in ("order", "anchor", "ylo", "yhi")))
+
+
+def _axis_pieces(axis: tuple[np.ndarray, ...]) -> list[Piece]:
+    return [Piece(int(k), float(o), float(a), float(lo), float(hi))
+            for k, o, a, lo, hi in zip(*axis[1:])]
+
+
+@dataclass
+class Table:
+    """Piecewise Chebyshev interpolant of e(alpha) (``beta_axis`` None) or e(alpha, beta).
+
+    ``coef`` has shape (pieces, n) or (alpha pieces, beta pieces, n_alpha, n_beta).
+    ``max_error`` is the largest |e_table - e_exact| seen on the held-out points at build
+    time; ``nodes`` the number of exact solves the build took.
+    """
+
+    law: str
+    end: str
+    alpha_axis: tuple[np.ndarray, ...]
+    coef: np.ndarray
+    beta_axis: tuple[np.ndarray, ...] | None = None
+    max_error: float = math.nan
+    nodes: int = 0
+    build_seconds: float = math.nan
+
+    def __post_init__(self) -> None:
+        if self.beta_axis is None:  # dense samples that start the inversion
+            xi = np.linspace(-1.0, 1.0, _INVERSE_SAMPLES)
+            self._inv = np.array([npcheb.chebval(xi, c) for c in self.coef])
+        else:  # beta series of e at both ends of every alpha piece
+            left = np.einsum("k,ijkl->ijl", (-1.0) ** np.arange(self.coef.shape[2]), self.coef)
+            self._inv = np.ascontiguousarray(np.stack([left, self.coef.sum(axis=2)], axis=2))
+
+    @property
+    def alpha_max(self) -> float:
+        return float(self.alpha_axis[0][-1])
+
+    def e(self, alpha: np.ndarray, beta: np.ndarray | None = None) -> np.ndarray:
+        """e at each alpha (and beta); NaN where the point lies outside the table."""
+        a = np.ascontiguousarray(alpha, dtype=float).ravel()
+        out = np.empty(a.shape)
+        if self.beta_axis is None:
+            _eval1_many(*self.alpha_axis, self.coef, a, out)
+        else:
+            b = np.ascontiguousarray(beta, dtype=float).ravel()
+            _eval2_many(self.alpha_axis, self.beta_axis, self.coef, a, b, out)
+        return out.reshape(np.shape(alpha))
+
+    def alpha(self, e: np.ndarray, beta: np.ndarray | None = None) -> np.ndarray:
+        """alpha with e_table(alpha) = e for each e in (0, 1]; NaN where the table does not reach."""
+        t = np.ascontiguousarray(e, dtype=float).ravel()
+        out = np.empty(t.shape)
+        if self.beta_axis is None:
+            _invert1_many(*self.alpha_axis, self.coef, self._inv, t, out)
+        else:
+            b = np.ascontiguousarray(beta, dtype=float).ravel()
+            _invert2_many(self.alpha_axis, self.beta_axis, self.coef, self._inv, t, b, out)
+        return out.reshape(np.shape(e))
+
+    def to_arrays(self) -> dict[str, np.ndarray]:
+        arrays = {f"alpha_{f}": v for f, v in zip(_AXIS_FIELDS, self.alpha_axis)}
+        if self.beta_axis is not None:
+            arrays |= {f"beta_{f}": v for f, v in zip(_AXIS_FIELDS, self.beta_axis)}
+        return arrays | {
+            "coef": self.coef, "max_error": np.float64(self.max_error),
+            "nodes": np.int64(self.nodes), "build_seconds": np.float64(self.build_seconds),
+            "format": np.int64(_FORMAT),
+        }
+
+    @classmethod
+    def from_arrays(cls, law: str, end: str, d) -> Table:
+        if int(d["format"]) != _FORMAT:
+            raise ValueError("old table format")
+        alpha_axis = tuple(d[f"alpha_{f}"] for f in _AXIS_FIELDS)
+        beta_axis = tuple(d[f"beta_{f}"] for f in _AXIS_FIELDS) if "beta_breaks" in d else None
+        coef = np.ascontiguousarray(d["coef"], dtype=float)
+        npc = alpha_axis[0].size - 1
+        ok = coef.shape[0] == npc and all(v.shape == (npc,) for v in alpha_axis[1:])
+        if beta_axis is not None:
+            ok = ok and coef.ndim == 4 and coef.shape[1] == beta_axis[0].size - 1
+        if not ok or not np.all(np.isfinite(coef)):
+            raise ValueError("inconsistent table arrays")
+        return cls(law, end, alpha_axis, coef, beta_axis, float(d["max_error"]), int(d["nodes"]),
+                   float(d["build_seconds"]))
+
+
+# --------------------------------------------------------------------------------------------
+# Building from the exact solver.
+# --------------------------------------------------------------------------------------------
+
+Exact = Callable[[np.ndarray, np.ndarray | None], np.ndarray]
+
+
+def _exact_chunk(args) -> list[float]:
+    """e by the exact solver for a chunk of points (runs in a worker process)."""
+    from .collision import collide_params
+    from .laws import resolve
+
+    law, end, alphas, betas = args
+    return [collide_params(resolve(law, beta=None if b is None else float(b)), float(a), end,
+                           rtol=_NODE_RTOL, history=False).e
+            for a, b in zip(alphas, betas if betas is not None else [None] * len(alphas))]
+
+
+class _Solver:
+    """The exact e for batches of points, on a pool of processes, with a progress bar."""
+
+    chunk = 8
+
+    def __init__(self, law: str, end: str, bar) -> None:
+        self.law, self.end, self.bar, self.count = law, end, bar, 0
+        self.pool = None
+        workers = os.cpu_count() or 1
+        if workers > 1 and sys.platform.startswith("linux"):
+            import concurrent.futures
+            import multiprocessing
+
+            self.pool = concurrent.futures.ProcessPoolExecutor(
+                workers, mp_context=multiprocessing.get_context("fork"))
+
+    def __call__(self, alpha: np.ndarray, beta: np.ndarray | None = None) -> np.ndarray:
+        alpha = np.asarray(alpha, dtype=float).ravel()
+        beta = None if beta is None else np.asarray(beta, dtype=float).ravel()
+        jobs = [(self.law, self.end, alpha[i:i + self.chunk],
+                 None if beta is None else beta[i:i + self.chunk])
+                for i in range(0, alpha.size, self.chunk)]
+        self.bar.total = (self.bar.total or 0) + alpha.size
+        out: list[float] = []
+        for part in (self.pool.map(_exact_chunk, jobs) if self.pool else map(_exact_chunk, jobs)):
+            out.extend(part)
+            self.bar.update(len(part))
+        self.count += alpha.size
+        return np.array(out)
+
+    def close(self) -> None:
+        if self.pool is not None:
+            self.pool.shutdown()
+
+
+def _coef_matrix(n: int) -> np.ndarray:
+    """M with c = M f: Chebyshev coefficients from values at the n first-kind Chebyshev points."""
+    m = (2.0 / n) * npcheb.chebvander(npcheb.chebpts1(n), n - 1).T
+    m[0] /= 2.0
+    return m
+
+
+def _tail(c: np.ndarray, axis: int = -1) -> float:
+    return float(np.max(np.abs(np.take(c, range(c.shape[axis] - _TAIL_TERMS, c.shape[axis]),
+                                       axis=axis))))
+
+
+def _start_order(law: str, end: str) -> float:
+    """k of the first piece's variable alpha^(1/k) (module docstring)."""
+    from .laws import resolve
+
+    lp = resolve(law, beta=0.0 if law == "Jian" else None)
+    return lp.m * (1.5 - lp.p) if end == "force" and lp.p < 1.5 else 1.0
+
+
+def _critical_alpha(exact: Exact) -> float | None:
+    """alpha_c beyond which the exact solver reports no rebound (None if e(ALPHA_TABLE_MAX) > 0).
+
+    Sections of [lo, hi] by as many points as there are workers, to a few ulp.
+    """
+    if exact(np.array([ALPHA_TABLE_MAX]))[0] > 0:
+        return None
+    lo, hi = 0.0, ALPHA_TABLE_MAX
+    points = max(2, os.cpu_count() or 1)
+    while hi - lo > 4e-16 * hi:
+        pts = np.linspace(lo, hi, points + 2)[1:-1]
+        separated = exact(pts) > 0
+        n_sep = int(np.argmin(separated)) if not separated.all() else points
+        lo = pts[n_sep - 1] if n_sep > 0 else lo
+        hi = pts[n_sep] if n_sep < points else hi
+    return lo
+
+
+def _initial_pieces(law: str, end: str, alpha_c: float | None) -> list[Piece]:
+    """The layout of the module docstring, before refinement (ZERO piece excluded)."""
+    top = ALPHA_TABLE_MAX if alpha_c is None else alpha_c - min(_CRIT_WIDTH, alpha_c / 2)
+    k = _start_order(law, end)
+    pieces = [Piece(POWER, k, 0.0, 0.0, min(1.0, top) ** (1.0 / k))]
+    if top > 1.0:
+        pieces.append(Piece(LOG, 1.0, 0.0, 0.0, math.log(top)))
+    if alpha_c is not None:
+        pieces.append(Piece(CRIT, 1.0, alpha_c, -math.sqrt(alpha_c - top), 0.0))
+    return pieces
+
+
+def _refine_1d(pieces: list[Piece], exact: Exact, n: int) -> list[tuple[Piece, np.ndarray]]:
+    """Halve pieces until their trailing coefficients fall below _TAIL_TOL."""
+    xi, m = npcheb.chebpts1(n), _coef_matrix(n)
+    done: list[tuple[Piece, np.ndarray]] = []
+    for rnd in range(_MAX_ROUNDS):
+        if not pieces:
+            break
+        values = exact(np.concatenate([pc.x_at(xi) for pc in pieces])).reshape(len(pieces), n)
+        later = []
+        for pc, f in zip(pieces, values):
+            c = m @ f
+            if _tail(c) <= _TAIL_TOL or rnd == _MAX_ROUNDS - 1:
+                done.append((pc, c))
+            else:
+                later.extend(pc.halves())
+        pieces = later
+    return done
+
+
+def _refine_2d(a_pieces: list[Piece], b_pieces: list[Piece], exact: Exact,
+               n: tuple[int, int]) -> tuple[list[Piece], list[Piece], np.ndarray]:
+    """Tensor grid of pieces; an alpha (beta) piece is halved everywhere when any block over it
+    has alpha (beta) coefficients above _TAIL_TOL."""
+    xa, xb = npcheb.chebpts1(n[0]), npcheb.chebpts1(n[1])
+    ma, mb = _coef_matrix(n[0]), _coef_matrix(n[1])
+    blocks: dict[tuple[Piece, Piece], np.ndarray] = {}
+    for _ in range(_MAX_ROUNDS):
+        todo = [(pa, pb) for pa in a_pieces for pb in b_pieces if (pa, pb) not in blocks]
+        if todo:
+            grids = [np.meshgrid(pa.x_at(xa), pb.x_at(xb), indexing="ij") for pa, pb in todo]
+            values = exact(np.concatenate([g[0].ravel() for g in grids]),
+                           np.concatenate([g[1].ravel() for g in grids]))
+            for (key, f) in zip(todo, values.reshape(len(todo), *n)):
+                blocks[key] = ma @ f @ mb.T
+        split_a = {pa for pa in a_pieces if any(_tail(blocks[pa, pb], 0) > _TAIL_TOL
+                                                 for pb in b_pieces)}
+        split_b = {pb for pb in b_pieces if any(_tail(blocks[pa, pb], 1) > _TAIL_TOL
+                                                 for pa in a_pieces)}
+        if not split_a and not split_b:
+            break
+        a_pieces = [h for pa in a_pieces for h in (pa.halves() if pa in split_a else (pa,))]
+        b_pieces = [h for pb in b_pieces for h in (pb.halves() if pb in split_b else (pb,))]
+    key = lambda pc: float(pc.x_at(-1.0))  # noqa: E731
+    a_pieces, b_pieces = sorted(a_pieces, key=key), sorted(b_pieces, key=key)
+    coef = np.array([[blocks[pa, pb] for pb in b_pieces] for pa in a_pieces])
+    return a_pieces, b_pieces, coef
+
+
+def _held_out(pieces: list[Piece], rng: np.random.Generator, per_piece: int = 2) -> np.ndarray:
+    """Random points in every piece, the piece ends, and tiny values near 0."""
+    pts = [pc.x_at(rng.uniform(-1.0, 1.0, per_piece)) for pc in pieces]
+    ends = [pc.x_at(np.array([-1.0, 1.0])) for pc in pieces]
+    return np.unique(np.concatenate(pts + ends + [np.array([1e-9, 1e-6, 1e-3])]))
+
+
+def _build(law: str, end: str) -> Table:
+    """Build and verify one table from the exact solver (refuses one that misses VERIFY_TOL)."""
+    import time
+
+    from tqdm import tqdm
+
+    t0 = time.perf_counter()
+    rng = np.random.default_rng(20190735)  # deterministic held-out points
+    with tqdm(desc=f"viscontact: {law} table ({end} end)", unit="solve", file=sys.stderr,
+              delay=1.0, leave=False) as bar:
+        exact = _Solver(law, end, bar)
+        try:
+            if law == "Jian":
+                kk = get_table("KK", end)
+                if kk is None:
+                    raise RuntimeError("the KK table is needed to lay out the Jian table")
+                a_init = [pc for pc in _axis_pieces(kk.alpha_axis) if pc.kind != ZERO]
+                b_init = [Piece(POWER, 2.0, 0.0, 0.0, 1.0),
+                          Piece(LOG, 1.0, 0.0, 0.0, math.log(BETA_TABLE_MAX))]
+                a_pieces, b_pieces, coef = _refine_2d(a_init, b_init, exact, _NODES_2D)
+                table = Table(law, end, _axis(a_pieces), coef, _axis(b_pieces))
+                a_pts, b_pts = _held_out(a_pieces, rng), _held_out(b_pieces, rng)
+                pa = np.concatenate([rng.choice(a_pts, b_pts.size), a_pts,
+                                     rng.uniform(0, ALPHA_TABLE_MAX, 2 * a_pts.size)])
+                pb = np.concatenate([b_pts, rng.choice(b_pts, a_pts.size),
+                                     rng.uniform(0, BETA_TABLE_MAX, 2 * a_pts.size)])
+                err = np.abs(table.e(pa, pb) - exact(pa, pb))
+            else:
+                alpha_c = _critical_alpha(exact)
+                done = _refine_1d(_initial_pieces(law, end, alpha_c), exact, _NODES_1D)
+                pieces = [pc for pc, _ in done]
+                coefs = [c for _, c in done]
+                if alpha_c is not None:
+                    pieces.append(Piece(ZERO, 1.0, 0.0, alpha_c, ALPHA_TABLE_MAX))
+                    coefs.append(np.zeros(_NODES_1D))
+                order = np.argsort([float(pc.x_at(-1.0)) for pc in pieces])
+                pieces = [pieces[i] for i in order]
+                table = Table(law, end, _axis(pieces), np.array([coefs[i] for i in order]))
+                pts = _held_out(pieces, rng)
+                err = np.abs(table.e(pts) - exact(pts))
+        finally:
+            exact.close()
+    table.max_error = float(np.max(err))
+    table.nodes = exact.count
+    table.build_seconds = time.perf_counter() - t0
+    if not table.max_error <= VERIFY_TOL:
+        raise RuntimeError(f"{law} table ({end} end) misses the exact solver by "
+                           f"{table.max_error:.2e} > {VERIFY_TOL:g}")
+    return table
+
+
+# --------------------------------------------------------------------------------------------
+# Cache: in memory per process, on disk per code version.
+# --------------------------------------------------------------------------------------------
+
+#: modules whose source determines the tabulated values (relative to the package)
+_VALUE_SOURCES = ("kernels.py", "laws.py", "collision.py", "solvers", "tables.py")
+_LOCK = threading.RLock()
+_MEMORY: dict[tuple[str, str], Table | None] = {}
+_KEY: str | None = None
+
+
+def cache_dir() -> Path:
+    """Where tables are cached: $VISCONTACT_CACHE_DIR, else the user's cache directory."""
+    env = os.environ.get("VISCONTACT_CACHE_DIR")
+    if env:
+        return Path(env)
+    import platformdirs
+
+    return Path(platformdirs.user_cache_dir("viscontact"))
+
+
+def code_key() -> str:
+    """Hash of the package version and the source of every module that determines e."""
+    global _KEY
+    if _KEY is None:
+        from . import __version__
+
+        root = Path(__file__).resolve().parent
+        h = hashlib.sha256(f"{__version__}/{_FORMAT}".encode())
+        for name in _VALUE_SOURCES:
+            path = root / name
+            for f in sorted(path.glob("*.py")) if path.is_dir() else [path]:
+                h.update(f.relative_to(root).as_posix().encode())
+                h.update(f.read_bytes())
+        _KEY = h.hexdigest()
+    return _KEY
+
+
+def table_path(law: str, end: str) -> Path:
+    return cache_dir() / f"table-{law}-{end}-{code_key()[:20]}.npz"
+
+
+def _load(law: str, end: str) -> Table | None:
+    path = table_path(law, end)
+    if not path.exists():
+        return None
+    try:
+        with np.load(path, allow_pickle=False) as d:
+            return Table.from_arrays(law, end, d)
+    except Exception as exc:  # a corrupt or foreign file is rebuilt, never trusted
+        warnings.warn(f"viscontact: rebuilding unreadable table cache {path.name} ({exc})",
+                      RuntimeWarning, stacklevel=3)
+        return None
+
+
+def _save(table: Table) -> None:
+    """Write atomically (temporary file, then rename) and drop stale versions of this table."""
+    path = table_path(table.law, table.end)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=path.parent, suffix=".tmp", delete=False) as fh:
+            np.savez(fh, **table.to_arrays())
+        os.replace(fh.name, path)
+        for old in path.parent.glob(f"table-{table.law}-{table.end}-*.npz"):
+            if old != path:
+                old.unlink(missing_ok=True)
+    except OSError as exc:  # a read-only cache still leaves the table usable in memory
+        warnings.warn(f"viscontact: could not cache table in {path.parent} ({exc})",
+                      RuntimeWarning, stacklevel=3)
+
+
+def get_table(law: str, end: str) -> Table | None:
+    """The table of ``law`` (registered name) for ``end``, loaded or built on first use.
+
+    None for a law without a table, or when a build failed its verification (a warning
+    says so; the exact solver then answers).
+    """
+    if law not in TABLE_LAWS:
+        return None
+    with _LOCK:
+        if (law, end) not in _MEMORY:
+            table = _load(law, end)
+            if table is None:
+                try:
+                    table = _build(law, end)
+                except RuntimeError as exc:
+                    warnings.warn(f"viscontact: {exc}; the exact solver answers instead",
+                                  RuntimeWarning, stacklevel=2)
+                else:
+                    _save(table)
+            _MEMORY[law, end] = table
+        return _MEMORY[law, end]
+
+
+def clear_memory() -> None:
+    """Forget the tables loaded in this process (the next use reads the disk cache again)."""
+    global _KEY
+    with _LOCK:
+        _MEMORY.clear()
+        _KEY = None
+
+
+def build_all(rebuild: bool = False) -> dict[tuple[str, str], Table | None]:
+    """Load or build every table (each law with a table, both ends); ``rebuild`` ignores the cache."""
+    from .solvers import END_CRITERIA
+
+    with _LOCK:
+        if rebuild:
+            for law in TABLE_LAWS:
+                for end in END_CRITERIA:
+                    table_path(law, end).unlink(missing_ok=True)
+            clear_memory()
+        return {(law, end): get_table(law, end) for law in TABLE_LAWS for end in END_CRITERIA}
