@@ -4,40 +4,46 @@ from __future__ import annotations
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.optimize import brentq
 
-from .collision import check_end, collide_params
+from .collision import check_end
 from .laws import LawParams, check_finite_nonneg, resolve
+from .solvers import solve_batch
 
 __all__ = ["restitution", "alpha_from_e", "ALPHA_MAX"]
 
 #: alpha_from_e searches alpha in [0, ALPHA_MAX]; a smaller e is reported unreachable.
 ALPHA_MAX = 1000.0
 _E_TOL = 1e-12  # |e(alpha) - target| at which the inversion stops (the contract is 1e-9)
+_MAX_ITER = 200
 
 
 def _as_checked_array(name: str, value: ArrayLike) -> np.ndarray:
-    arr = np.asarray(value, dtype=object)
-    flat = [check_finite_nonneg(name, v) for v in arr.ravel()]
-    return np.array(flat, dtype=float).reshape(arr.shape)
+    """``value`` as a float array, or ValueError naming the first bad element (vectorised)."""
+    raw = np.asarray(value)
+    if raw.dtype.kind not in "biuf":  # strings, objects, complex: check one by one
+        arr = np.asarray(value, dtype=object)
+        flat = [check_finite_nonneg(name, v) for v in arr.ravel()]
+        return np.array(flat, dtype=float).reshape(arr.shape)
+    a = raw.astype(float)
+    bad = ~(np.isfinite(a) & (a >= 0))
+    if bad.any():
+        first = np.asarray(value, dtype=object).ravel()[int(np.argmax(bad.ravel()))]
+        check_finite_nonneg(name, first)  # raises with the usual message
+    return a
 
 
 def _law_grid(model: str, alpha: ArrayLike, beta: ArrayLike | None, p: float | None):
-    """Validated (law for each element, alpha array) broadcast together."""
+    """Validated law, alpha array and beta array (or None) broadcast together."""
     base = resolve(model, beta=None if beta is None else 0.0, p=p)
     a = _as_checked_array("alpha", alpha)
     if beta is None:
-        return np.full(a.shape, base, dtype=object), a
-    b = _as_checked_array("beta", beta)
-    a, b = np.broadcast_arrays(a, b)
-    laws = np.empty(a.shape, dtype=object)
-    for idx in np.ndindex(a.shape):
-        laws[idx] = LawParams(base.law, base.p, float(b[idx]), base.m)
-    return laws, a
+        return base, a, None
+    a, b = np.broadcast_arrays(a, _as_checked_array("beta", beta))
+    return base, a, b
 
 
-def _e_of(lp: LawParams, alpha: float, end: str) -> float:
-    return collide_params(lp, alpha, end, history=False).e
+def _e_of(lp: LawParams, alpha: np.ndarray, beta: np.ndarray | None, end: str) -> np.ndarray:
+    return solve_batch(lp, alpha, end, beta=beta).e
 
 
 def restitution(
@@ -47,33 +53,66 @@ def restitution(
     """Coefficient of restitution e = -x'(t_c) for each alpha (and beta, Jian).
 
     Broadcasts ``alpha`` against ``beta``; returns a float for scalar input, else an
-    array of the broadcast shape.  Accuracy |e - exact| <= 1e-8 (SPEC sections 2-5).
+    array of the broadcast shape.  Accuracy |e - exact| <= 1e-8 (SPEC sections 2-5);
+    solved by the compiled batch solver (:func:`viscontact.solvers.solve_batch`).
     A zero-overlap contact that never separates gives e = 0.
     """
     check_end(end)
-    laws, a = _law_grid(model, alpha, beta, p)
-    out = np.empty(a.shape)
-    for idx in np.ndindex(a.shape):
-        out[idx] = _e_of(laws[idx], float(a[idx]), end)
+    lp, a, b = _law_grid(model, alpha, beta, p)
+    out = _e_of(lp, a, b, end)
     return float(out) if out.ndim == 0 else out
 
 
-def _invert(lp: LawParams, target: float, end: str) -> float:
-    if target == 1.0:
-        return 0.0
-    hi = 1.0
-    e_hi = _e_of(lp, hi, end)
-    while e_hi > target:
-        if hi >= ALPHA_MAX:
+def _invert(lp: LawParams, target: np.ndarray, beta: np.ndarray | None, end: str) -> np.ndarray:
+    """alpha with e(alpha) = target for every element (flat arrays): vectorised bracketing,
+    then a safeguarded secant iteration (Illinois) on all unconverged elements at once."""
+    n = target.size
+    alpha = np.zeros(n)
+    todo = np.flatnonzero(target < 1.0)  # e = 1 -> alpha = 0
+    if todo.size == 0:
+        return alpha
+    tgt = target[todo]
+    bet = None if beta is None else beta[todo]
+    lo, f_lo = np.zeros(todo.size), 1.0 - tgt  # e(0) = 1
+    hi = np.ones(todo.size)
+    f_hi = _e_of(lp, hi, bet, end) - tgt
+    while True:  # grow the bracket where e(hi) is still above the target
+        grow = np.flatnonzero(f_hi > 0)
+        if grow.size == 0:
+            break
+        capped = grow[hi[grow] >= ALPHA_MAX]
+        if capped.size:
+            i = capped[0]
             raise ValueError(
-                f"e = {target!r} is below what {lp.name} reaches with alpha <= {ALPHA_MAX:g} under "
-                f"the zero-{end} criterion; allowed range is [{e_hi:.6g}, 1]"
+                f"e = {float(tgt[i])!r} is below what {lp.name} reaches with alpha <= {ALPHA_MAX:g} under "
+                f"the zero-{end} criterion; allowed range is [{f_hi[i] + tgt[i]:.6g}, 1]"
             )
-        hi = min(4.0 * hi, ALPHA_MAX)
-        e_hi = _e_of(lp, hi, end)
-    return brentq(
-        lambda a: _e_of(lp, a, end) - target, 0.0, hi, xtol=1e-15, rtol=1e-14, maxiter=200
-    )
+        lo[grow], f_lo[grow] = hi[grow], f_hi[grow]
+        hi[grow] = np.minimum(4.0 * hi[grow], ALPHA_MAX)
+        f_hi[grow] = _e_of(lp, hi[grow], None if bet is None else bet[grow], end) - tgt[grow]
+    side = np.zeros(todo.size, dtype=int)
+    best = hi.copy()
+    live = np.arange(todo.size)
+    for _ in range(_MAX_ITER):
+        x = lo[live] - f_lo[live] * (hi[live] - lo[live]) / (f_hi[live] - f_lo[live])
+        bad = ~((x > lo[live]) & (x < hi[live]))
+        x[bad] = 0.5 * (lo[live][bad] + hi[live][bad])
+        f = _e_of(lp, x, None if bet is None else bet[live], end) - tgt[live]
+        best[live] = x
+        up = f > 0  # e too high: alpha above x
+        i_up, i_dn = live[up], live[~up]
+        lo[i_up], f_lo[i_up] = x[up], f[up]
+        f_hi[i_up[side[i_up] == 1]] *= 0.5  # Illinois: halve the stale end
+        side[i_up] = 1
+        hi[i_dn], f_hi[i_dn] = x[~up], f[~up]
+        f_lo[i_dn[side[i_dn] == -1]] *= 0.5
+        side[i_dn] = -1
+        done = (np.abs(f) <= _E_TOL) | (hi[live] - lo[live] <= 4e-16 * hi[live])
+        live = live[~done]
+        if live.size == 0:
+            break
+    alpha[todo] = best
+    return alpha
 
 
 def alpha_from_e(
@@ -84,18 +123,26 @@ def alpha_from_e(
 
     Broadcasts ``e`` against ``beta``.  |restitution(alpha_from_e(e)) - e| <= 1e-9; e = 1
     gives 0.  Raises ValueError for e outside (0, 1], NaN, or an e the law cannot reach.
+    Every element is solved at once: batch solves of the whole array per iteration.
     """
     check_end(end)
-    e_arr = np.asarray(e, dtype=object)
-    for v in e_arr.ravel():
-        try:
-            ok = 0.0 < float(v) <= 1.0
-        except (TypeError, ValueError):
-            ok = False
-        if not ok:
-            raise ValueError(f"e must be a number in (0, 1]; got {v!r}")
-    laws, e_f = _law_grid(model, e_arr, beta, p)
-    out = np.empty(e_f.shape)
-    for idx in np.ndindex(e_f.shape):
-        out[idx] = _invert(laws[idx], float(e_f[idx]), end)
+    raw = np.asarray(e)
+    if raw.dtype.kind in "biuf":
+        e_arr = raw.astype(float)
+        ok = (e_arr > 0.0) & (e_arr <= 1.0)
+        if not ok.all():
+            bad = np.asarray(e, dtype=object).ravel()[int(np.argmin(ok.ravel()))]
+            raise ValueError(f"e must be a number in (0, 1]; got {bad!r}")
+    else:
+        for v in np.asarray(e, dtype=object).ravel():
+            try:
+                good = 0.0 < float(v) <= 1.0
+            except (TypeError, ValueError):
+                good = False
+            if not good:
+                raise ValueError(f"e must be a number in (0, 1]; got {v!r}")
+        e_arr = np.asarray(e, dtype=object).astype(float)
+    lp, e_f, b = _law_grid(model, e_arr, beta, p)
+    out = _invert(lp, np.ascontiguousarray(e_f).ravel(), None if b is None else
+                  np.ascontiguousarray(b).ravel(), end).reshape(e_f.shape)
     return float(out) if out.ndim == 0 else out

@@ -13,11 +13,14 @@ from typing import Any
 import numpy as np
 
 from .laws import LawParams, check_finite_nonneg, resolve
-from .solvers import DEFAULT_RTOL, END_CRITERIA, SOLVERS
+from .solvers import END_CRITERIA, SOLVERS
 
-__all__ = ["CollisionResult", "collide", "check_end", "result_dict", "DEFAULT_SOLVER"]
+__all__ = ["CollisionResult", "collide", "check_end", "result_dict", "solver_for"]
 
-DEFAULT_SOLVER = "reference"
+
+def solver_for(history: bool) -> str:
+    """The solver used: the reference (scipy, histories) or the compiled batch solver."""
+    return "reference" if history else "batch"
 
 
 @dataclass
@@ -92,11 +95,13 @@ def check_end(end: str) -> str:
 
 
 def collide_params(
-    lp: LawParams, alpha: float, end: str = "force", *, rtol: float = DEFAULT_RTOL,
-    history: bool = True, solver: str = DEFAULT_SOLVER,
+    lp: LawParams, alpha: float, end: str = "force", *, rtol: float | None = None,
+    history: bool = True,
 ) -> CollisionResult:
     """:func:`collide` for an already validated law."""
-    raw = SOLVERS[solver](lp, alpha, end, rtol=rtol, detail=history)
+    solve = SOLVERS[solver_for(history)]
+    tol = {} if rtol is None else {"rtol": rtol}
+    raw = solve(lp, alpha, end, detail=history, **tol)
     hist = raw.history
     scalars = {
         k: float(getattr(raw, k))
@@ -111,14 +116,16 @@ def collide_params(
 
 def collide(
     model: str, alpha: float, *, beta: float | None = None, p: float | None = None,
-    end: str = "force", rtol: float = DEFAULT_RTOL, history: bool = True,
+    end: str = "force", rtol: float | None = None, history: bool = True,
 ) -> CollisionResult:
     """Solve one normal collision exactly (to the solver tolerance).
 
     Solves x'' + x^(3/2) + alpha g(t) x^p x' = 0, x(0) = 0, x'(0) = 1 (SPEC section 2)
     until the force (``end="force"``, default) or the overlap (``end="overlap"``) returns
-    to zero.  ``rtol`` is the integrator's relative tolerance (default 1e-12 gives e to
-    about 1e-11).  ``history=False`` skips peak force, peak overlap and histories.
+    to zero.  ``history=False`` skips peak force, peak overlap and histories and uses the
+    compiled batch solver (:func:`viscontact.solvers.solve_batch`).  ``rtol`` is the
+    integrator's relative tolerance; by default 1e-12 with histories (e to about 1e-11) and
+    the batch solver's ``BATCH_RTOL`` without (e to about 1e-9).
 
     Raises ValueError for an unknown model, a negative or non-finite alpha, beta or p,
     beta given to a law without one, or p missing for ``power``.
@@ -126,6 +133,6 @@ def collide(
     lp = resolve(model, beta=beta, p=p)
     a = check_finite_nonneg("alpha", alpha)
     check_end(end)
-    if not (0 < rtol < 1e-3):
+    if rtol is not None and not (0 < rtol < 1e-3):
         raise ValueError(f"rtol must be in (0, 1e-3); got {rtol!r}")
     return collide_params(lp, a, end, rtol=rtol, history=history)

@@ -24,9 +24,33 @@ import math
 
 import numba
 
-__all__ = ["relaxation", "spow", "spring_s", "damping_s", "force_s", "force", "rhs_sigma"]
+__all__ = [
+    "relaxation", "ipow", "spow", "spring_s", "damping_s", "force_s", "force", "rhs_sigma",
+    "end_force_event",
+]
 
 _jit = numba.njit(cache=True, fastmath=False, nogil=True)
+
+
+#: exp(-40) < 5e-18: beyond t = 40 beta the factor g is 1 to double precision
+_RELAXED = 40.0
+
+
+@_jit
+def _expm1_neg(y: float) -> float:
+    """exp(-y) - 1 for 0 <= y <= 40 without library calls (so it vectorises across lanes).
+
+    Taylor series of expm1 at z = -y/128 (|z| <= 0.32, truncation < 1e-19), then seven
+    doublings expm1(2z) = w (2 + w), which carry no cancellation.
+    """
+    z = -y * (1.0 / 128.0)
+    w = 1.0
+    for n in range(15, 1, -1):  # Horner: z (1 + z/2 (1 + z/3 (... (1 + z/15))))
+        w = 1.0 + z * w / n
+    w = z * w
+    for _ in range(7):
+        w = w * (2.0 + w)
+    return w
 
 
 @_jit
@@ -34,18 +58,28 @@ def relaxation(t: float, beta: float) -> float:
     """g(t) = 1 - exp(-t/beta), the Jian switch-on factor; 1 when beta = 0 (KK)."""
     if beta <= 0.0:
         return 1.0
-    return -math.expm1(-t / beta)
+    return -_expm1_neg(min(t / beta, _RELAXED))
+
+
+@_jit
+def ipow(s: float, n: int) -> float:
+    """s^n for an integer n >= 0 by binary powering: straight-line code for n < 32."""
+    r = 1.0
+    b = s
+    for bit in range(5):
+        r *= b if (n >> bit) & 1 else 1.0
+        b *= b
+    for _ in range(n >> 5):  # b = s^32 here
+        r *= b
+    return r
 
 
 @_jit
 def spow(s: float, k: float) -> float:
     """s^k: a signed integer power when k is integral (smooth through 0), else |s|^k."""
     ki = int(k)
-    if ki == k:
-        r = 1.0
-        for _ in range(ki):
-            r *= s
-        return r
+    if ki == k and ki >= 0:
+        return ipow(s, ki)
     return abs(s) ** k
 
 
@@ -88,3 +122,20 @@ def rhs_sigma(s: float, v: float, t: float, alpha: float, beta: float, p: float,
     jac = m * spow(s, m - 1.0)  # dt/dsigma
     damp = damping_s(s, v, t, alpha, beta, p, m)
     return v, -jac * (spring_s(s, m) + damp), jac, jac * damp * v
+
+
+@_jit
+def end_force_event(
+    s: float, v: float, t: float, alpha: float, beta: float, p: float, m: int, q: float, root: float
+) -> float:
+    """Zero-force end event: (F / s^q)^(1/k) (signed), k = 3m/2 - q, ``root`` = 1/k (or 1).
+
+    The spring term is continued oddly through s = 0, so the function changes sign exactly
+    once near the end even when a step jumps past x = 0; the k-th root keeps the zero simple
+    when alpha -> 0 (where F / s^q tends to s^k).
+    """
+    a_s = abs(s)
+    h = math.copysign(spring_s(a_s, m, q), s) + damping_s(a_s, v, t, alpha, beta, p, m, q)
+    if root == 1.0:
+        return h
+    return math.copysign(abs(h) ** root, h)

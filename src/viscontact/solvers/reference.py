@@ -15,7 +15,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 
-from ..kernels import damping_s, force_s, rhs_sigma, spring_s
+from ..kernels import end_force_event, force_s, rhs_sigma
 from ..laws import LawParams
 from .base import DEFAULT_RTOL, T_MAX, Contact
 
@@ -52,12 +52,7 @@ def solve_reference(
         root = 1.0 / k if k > 1 else 1.0
 
         def zero_force(_s, y):
-            # F / s^q with the spring term continued oddly through s = 0, so the function
-            # changes sign exactly once near the end even when a step jumps past x = 0;
-            # the k-th root keeps the zero simple when alpha -> 0 (where it tends to s^k).
-            a_s = abs(y[0])
-            h = math.copysign(spring_s(a_s, m, q), y[0]) + damping_s(a_s, y[1], y[2], alpha, beta, p, m, q)
-            return math.copysign(abs(h) ** root, h)
+            return end_force_event(y[0], y[1], y[2], alpha, beta, p, m, q, root)
 
         events.append(_event(zero_force, True, -1.0))
     # Jian with tiny beta switches damping on at t ~ beta: do not step over it.
