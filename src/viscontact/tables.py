@@ -42,6 +42,7 @@ from typing import Callable
 import numba
 import numpy as np
 from numpy.polynomial import chebyshev as npcheb
+from numpy.typing import ArrayLike
 
 __all__ = [
     "ALPHA_TABLE_MAX", "BETA_TABLE_MAX", "VERIFY_TOL", "TABLE_LAWS", "Table", "build_all",
@@ -64,7 +65,7 @@ _NODES_2D = (16, 16)  # per 2D piece, (alpha, beta)
 _TAIL_TOL = 1e-12  # accept a piece when its last coefficients are below this (|e| <= 1)
 _TAIL_TERMS = 3
 _MAX_ROUNDS = 12  # refinement rounds (each halves the pieces that fail)
-_NODE_RTOL = 3e-14  # solver tolerance for the nodes (e to ~1e-14; scipy floors rtol at 2.2e-14)
+_NODE_RTOL = 1e-14  # batch solver tolerance for the nodes (e to ~1e-14)
 _CRIT_WIDTH = 0.1  # width in alpha of the CRIT piece below alpha_c
 _INVERSE_SAMPLES = 128  # dense samples per piece that start the Newton inversion
 _FORMAT = 1  # bump when the file layout changes
@@ -466,50 +467,34 @@ class Table:
 Exact = Callable[[np.ndarray, np.ndarray | None], np.ndarray]
 
 
-def _exact_chunk(args) -> list[float]:
-    """e by the exact solver for a chunk of points (runs in a worker process)."""
-    from .collision import collide_params
+def exact_e(law: str, end: str, alpha: ArrayLike, beta: ArrayLike | None = None) -> np.ndarray:
+    """e by the exact (batch) solver at the tables' node tolerance (|error| ~ 1e-14)."""
     from .laws import resolve
+    from .solvers import solve_batch
 
-    law, end, alphas, betas = args
-    return [collide_params(resolve(law, beta=None if b is None else float(b)), float(a), end,
-                           rtol=_NODE_RTOL, history=False).e
-            for a, b in zip(alphas, betas if betas is not None else [None] * len(alphas))]
+    lp = resolve(law, beta=0.0 if law == "Jian" else None)
+    return solve_batch(lp, alpha, end, beta=beta, rtol=_NODE_RTOL).e
 
 
 class _Solver:
-    """The exact e for batches of points, on a pool of processes, with a progress bar."""
+    """:func:`exact_e` for batches of points, counting them on a progress bar."""
 
-    chunk = 8
+    chunk = 4096  # solves per progress-bar update
 
     def __init__(self, law: str, end: str, bar) -> None:
         self.law, self.end, self.bar, self.count = law, end, bar, 0
-        self.pool = None
-        workers = os.cpu_count() or 1
-        if workers > 1 and sys.platform.startswith("linux"):
-            import concurrent.futures
-            import multiprocessing
-
-            self.pool = concurrent.futures.ProcessPoolExecutor(
-                workers, mp_context=multiprocessing.get_context("fork"))
 
     def __call__(self, alpha: np.ndarray, beta: np.ndarray | None = None) -> np.ndarray:
         alpha = np.asarray(alpha, dtype=float).ravel()
-        beta = None if beta is None else np.asarray(beta, dtype=float).ravel()
-        jobs = [(self.law, self.end, alpha[i:i + self.chunk],
-                 None if beta is None else beta[i:i + self.chunk])
-                for i in range(0, alpha.size, self.chunk)]
         self.bar.total = (self.bar.total or 0) + alpha.size
-        out: list[float] = []
-        for part in (self.pool.map(_exact_chunk, jobs) if self.pool else map(_exact_chunk, jobs)):
-            out.extend(part)
-            self.bar.update(len(part))
+        out = np.empty(alpha.size)
+        for i in range(0, alpha.size, self.chunk):
+            part = slice(i, i + self.chunk)
+            out[part] = exact_e(self.law, self.end, alpha[part],
+                                None if beta is None else np.asarray(beta, dtype=float).ravel()[part])
+            self.bar.update(out[part].size)
         self.count += alpha.size
-        return np.array(out)
-
-    def close(self) -> None:
-        if self.pool is not None:
-            self.pool.shutdown()
+        return out
 
 
 def _coef_matrix(n: int) -> np.ndarray:
@@ -617,6 +602,35 @@ def _held_out(pieces: list[Piece], rng: np.random.Generator, per_piece: int = 2)
     return np.unique(np.concatenate(pts + ends + [np.array([1e-9, 1e-6, 1e-3])]))
 
 
+def _build_1d(law: str, end: str, exact: Exact, rng: np.random.Generator) -> tuple[Table, float]:
+    """(table, largest held-out error) of e(alpha)."""
+    alpha_c = _critical_alpha(exact)
+    done = _refine_1d(_initial_pieces(law, end, alpha_c), exact, _NODES_1D)
+    if alpha_c is not None:
+        done.append((Piece(ZERO, 1.0, 0.0, alpha_c, ALPHA_TABLE_MAX), np.zeros(_NODES_1D)))
+    done.sort(key=lambda item: float(item[0].x_at(-1.0)))
+    pieces = [pc for pc, _ in done]
+    table = Table(law, end, _axis(pieces), np.array([c for _, c in done]))
+    pts = _held_out(pieces, rng)
+    return table, float(np.max(np.abs(table.e(pts) - exact(pts))))
+
+
+def _build_2d(law: str, end: str, exact: Exact, rng: np.random.Generator) -> tuple[Table, float]:
+    """(table, largest held-out error) of e(alpha, beta); alpha pieces start from the KK table's."""
+    kk = get_table("KK", end)
+    if kk is None:
+        raise RuntimeError("the KK table is needed to lay out the Jian table")
+    a_init = [pc for pc in _axis_pieces(kk.alpha_axis) if pc.kind != ZERO]
+    b_init = [Piece(POWER, 2.0, 0.0, 0.0, 1.0), Piece(LOG, 1.0, 0.0, 0.0, math.log(BETA_TABLE_MAX))]
+    a_pieces, b_pieces, coef = _refine_2d(a_init, b_init, exact, _NODES_2D)
+    table = Table(law, end, _axis(a_pieces), coef, _axis(b_pieces))
+    a_pts, b_pts = _held_out(a_pieces, rng), _held_out(b_pieces, rng)
+    n_rand = 4 * a_pts.size * b_pts.size
+    pa = np.concatenate([rng.choice(a_pts, b_pts.size), a_pts, rng.uniform(0, ALPHA_TABLE_MAX, n_rand)])
+    pb = np.concatenate([b_pts, rng.choice(b_pts, a_pts.size), rng.uniform(0, BETA_TABLE_MAX, n_rand)])
+    return table, float(np.max(np.abs(table.e(pa, pb) - exact(pa, pb))))
+
+
 def _build(law: str, end: str) -> Table:
     """Build and verify one table from the exact solver (refuses one that misses VERIFY_TOL)."""
     import time
@@ -628,46 +642,13 @@ def _build(law: str, end: str) -> Table:
     with tqdm(desc=f"viscontact: {law} table ({end} end)", unit="solve", file=sys.stderr,
               delay=1.0, leave=False) as bar:
         exact = _Solver(law, end, bar)
-        try:
-            if law == "Jian":
-                kk = get_table("KK", end)
-                if kk is None:
-                    raise RuntimeError("the KK table is needed to lay out the Jian table")
-                a_init = [pc for pc in _axis_pieces(kk.alpha_axis) if pc.kind != ZERO]
-                b_init = [Piece(POWER, 2.0, 0.0, 0.0, 1.0),
-                          Piece(LOG, 1.0, 0.0, 0.0, math.log(BETA_TABLE_MAX))]
-                a_pieces, b_pieces, coef = _refine_2d(a_init, b_init, exact, _NODES_2D)
-                table = Table(law, end, _axis(a_pieces), coef, _axis(b_pieces))
-                a_pts, b_pts = _held_out(a_pieces, rng), _held_out(b_pieces, rng)
-                pa = np.concatenate([rng.choice(a_pts, b_pts.size), a_pts,
-                                     rng.uniform(0, ALPHA_TABLE_MAX, 2 * a_pts.size)])
-                pb = np.concatenate([b_pts, rng.choice(b_pts, a_pts.size),
-                                     rng.uniform(0, BETA_TABLE_MAX, 2 * a_pts.size)])
-                err = np.abs(table.e(pa, pb) - exact(pa, pb))
-            else:
-                alpha_c = _critical_alpha(exact)
-                done = _refine_1d(_initial_pieces(law, end, alpha_c), exact, _NODES_1D)
-                pieces = [pc for pc, _ in done]
-                coefs = [c for _, c in done]
-                if alpha_c is not None:
-                    pieces.append(Piece(ZERO, 1.0, 0.0, alpha_c, ALPHA_TABLE_MAX))
-                    coefs.append(np.zeros(_NODES_1D))
-                order = np.argsort([float(pc.x_at(-1.0)) for pc in pieces])
-                pieces = [pieces[i] for i in order]
-                table = Table(law, end, _axis(pieces), np.array([coefs[i] for i in order]))
-                pts = _held_out(pieces, rng)
-                err = np.abs(table.e(pts) - exact(pts))
-        finally:
-            exact.close()
-    table.max_error = float(np.max(err))
-    table.nodes = exact.count
+        table, error = (_build_2d if law == "Jian" else _build_1d)(law, end, exact, rng)
+    table.max_error, table.nodes = error, exact.count
     table.build_seconds = time.perf_counter() - t0
     if not table.max_error <= VERIFY_TOL:
         raise RuntimeError(f"{law} table ({end} end) misses the exact solver by "
                            f"{table.max_error:.2e} > {VERIFY_TOL:g}")
     return table
-
-
 # --------------------------------------------------------------------------------------------
 # Cache: in memory per process, on disk per code version.
 # --------------------------------------------------------------------------------------------
