@@ -315,9 +315,8 @@ def _invert2(ax, bx, coef, edges, e: float, b: float, tb, r) -> float:
 
 
 @_pjit
-def _eval2_many(ax, bx, coef, a, b, out):
+def _eval2_many(ax, bx, coef, a, b, out, chunks):
     n = a.shape[0]
-    chunks = 8 * numba.get_num_threads()
     size = (n + chunks - 1) // chunks
     for ch in numba.prange(chunks):
         tb = np.empty(coef.shape[3])
@@ -327,9 +326,8 @@ def _eval2_many(ax, bx, coef, a, b, out):
 
 
 @_pjit
-def _invert2_many(ax, bx, coef, edges, e, b, out):
+def _invert2_many(ax, bx, coef, edges, e, b, out, chunks):
     n = e.shape[0]
-    chunks = 8 * numba.get_num_threads()
     size = (n + chunks - 1) // chunks
     for ch in numba.prange(chunks):
         tb = np.empty(coef.shape[3])
@@ -341,6 +339,11 @@ def _invert2_many(ax, bx, coef, edges, e, b, out):
 # --------------------------------------------------------------------------------------------
 # Tables: data, evaluation, inversion.
 # --------------------------------------------------------------------------------------------
+
+def _chunks() -> int:
+    """Work items of the 2D drivers (each allocates its scratch rows once)."""
+    return 8 * numba.get_num_threads()
+
 
 _AXIS_FIELDS = ("breaks", "kind", "order", "anchor", "ylo", "yhi")
 
@@ -419,7 +422,7 @@ class Table:
             _eval1_many(*self.alpha_axis, self.coef, a, out)
         else:
             b = np.ascontiguousarray(beta, dtype=float).ravel()
-            _eval2_many(self.alpha_axis, self.beta_axis, self.coef, a, b, out)
+            _eval2_many(self.alpha_axis, self.beta_axis, self.coef, a, b, out, _chunks())
         return out.reshape(np.shape(alpha))
 
     def alpha(self, e: np.ndarray, beta: np.ndarray | None = None) -> np.ndarray:
@@ -430,7 +433,8 @@ class Table:
             _invert1_many(*self.alpha_axis, self.coef, self._inv, t, out)
         else:
             b = np.ascontiguousarray(beta, dtype=float).ravel()
-            _invert2_many(self.alpha_axis, self.beta_axis, self.coef, self._inv, t, b, out)
+            _invert2_many(self.alpha_axis, self.beta_axis, self.coef, self._inv, t, b, out,
+                          _chunks())
         return out.reshape(np.shape(e))
 
     def to_arrays(self) -> dict[str, np.ndarray]:
@@ -762,3 +766,33 @@ def build_all(rebuild: bool = False) -> dict[tuple[str, str], Table | None]:
                     table_path(law, end).unlink(missing_ok=True)
             clear_memory()
         return {(law, end): get_table(law, end) for law in TABLE_LAWS for end in END_CRITERIA}
+
+
+# --------------------------------------------------------------------------------------------
+# The one entry point of the public API (viscontact.calibration).
+# --------------------------------------------------------------------------------------------
+
+
+def through_tables(what: str, lp, x: np.ndarray, beta: np.ndarray | None, end: str,
+                   exact: Callable[..., np.ndarray]) -> np.ndarray:
+    """e(alpha) (``what="e"``) or alpha(e) (``what="alpha"``) through the law's table.
+
+    ``x`` and ``beta`` are validated arrays of one shape; ``exact(lp, x, beta, end)`` (flat
+    arrays) answers every element the table does not cover (no table for the law, table disabled
+    or refused, alpha or beta beyond the table, e below its range).  Jian with beta = 0 is
+    exactly KK and goes through the KK table.
+    """
+    flat = np.ascontiguousarray(x, dtype=float).ravel()
+    b = None if beta is None else np.ascontiguousarray(np.broadcast_to(beta, x.shape)).ravel()
+    table = get_table(lp.name, end) if enabled else None
+    if table is None:
+        return exact(lp, flat, b, end).reshape(x.shape)
+    out = getattr(table, what)(flat, b)
+    if b is not None:
+        kk = b == 0.0
+        if kk.any() and (kk_table := get_table("KK", end)) is not None:
+            out[kk] = getattr(kk_table, what)(flat[kk])
+    missing = np.isnan(out)
+    if missing.any():
+        out[missing] = exact(lp, flat[missing], None if b is None else b[missing], end)
+    return out.reshape(x.shape)
