@@ -67,11 +67,17 @@ _TAIL_TERMS = 3
 _MAX_ROUNDS = 12  # refinement rounds (each halves the pieces that fail)
 _NODE_RTOL = 1e-14  # batch solver tolerance for the nodes (e to ~1e-14)
 _CRIT_WIDTH = 0.1  # width in alpha of the CRIT piece below alpha_c
-_INVERSE_SAMPLES = 128  # dense samples per piece that start the Newton inversion
+_INVERSE_SAMPLES = 256  # dense samples per piece that start the Newton inversion
+_INVERSE_TOL = 1e-13  # |e_table(alpha) - e| at which the inversion stops (contract: 1e-9)
 _FORMAT = 1  # bump when the file layout changes
 
-_jit = numba.njit(cache=True, fastmath=False, nogil=True)
-_pjit = numba.njit(cache=True, fastmath=False, nogil=True, parallel=True)
+# "contract" lets a * b + c become one fused multiply-add (one rounding, half the latency of
+# the Clenshaw chains); no other fast-math liberties.
+_jit = numba.njit(cache=True, fastmath={"contract"}, nogil=True)
+# the per-point helpers are inlined into the drivers: a call passing several arrays costs
+# more than the arithmetic it runs
+_ijit = numba.njit(cache=True, fastmath={"contract"}, nogil=True, inline="always")
+_pjit = numba.njit(cache=True, fastmath={"contract"}, nogil=True, parallel=True)
 
 
 # --------------------------------------------------------------------------------------------
@@ -79,7 +85,7 @@ _pjit = numba.njit(cache=True, fastmath=False, nogil=True, parallel=True)
 # --------------------------------------------------------------------------------------------
 
 
-@_jit
+@_ijit
 def _to_unit(x: float, kind: int, order: float, anchor: float, ylo: float, yhi: float) -> float:
     """Map x (alpha or beta) in a piece to xi in [-1, 1] through the piece's variable y."""
     if kind == POWER:
@@ -94,7 +100,7 @@ def _to_unit(x: float, kind: int, order: float, anchor: float, ylo: float, yhi: 
     return min(1.0, max(-1.0, xi))
 
 
-@_jit
+@_ijit
 def _from_unit(xi: float, kind: int, order: float, anchor: float, ylo: float, yhi: float) -> float:
     """Inverse of :func:`_to_unit` (x from xi)."""
     y = 0.5 * (ylo + yhi) + 0.5 * (yhi - ylo) * xi
@@ -107,7 +113,7 @@ def _from_unit(xi: float, kind: int, order: float, anchor: float, ylo: float, yh
     return y  # ZERO: y = x
 
 
-@_jit
+@_ijit
 def _cheb(c, xi: float) -> float:
     """sum_k c_k T_k(xi) by Clenshaw's recurrence."""
     b1 = 0.0
@@ -118,7 +124,7 @@ def _cheb(c, xi: float) -> float:
     return xi * b1 - b2 + c[0]
 
 
-@_jit
+@_ijit
 def _cheb_d(c, xi: float):
     """(sum_k c_k T_k(xi), its derivative in xi): Clenshaw for T and for U (T_k' = k U_{k-1})."""
     n = c.shape[0]
@@ -133,7 +139,7 @@ def _cheb_d(c, xi: float):
     return xi * b1 - b2 + c[0], d1
 
 
-@_jit
+@_ijit
 def _locate(breaks, x: float) -> int:
     """Index i with breaks[i] <= x <= breaks[i+1] (x inside [breaks[0], breaks[-1]])."""
     lo = 0
@@ -147,7 +153,7 @@ def _locate(breaks, x: float) -> int:
     return lo
 
 
-@_jit
+@_ijit
 def _eval1(breaks, kind, order, anchor, ylo, yhi, coef, x: float) -> float:
     if not (0.0 <= x <= breaks[-1]):
         return math.nan
@@ -162,35 +168,54 @@ def _eval1_many(breaks, kind, order, anchor, ylo, yhi, coef, x, out):
         out[j] = _eval1(breaks, kind, order, anchor, ylo, yhi, coef, x[j])
 
 
-@_jit
-def _solve_piece(c, target: float, xa: float, xb: float, ea: float, eb: float) -> float:
+@_ijit
+def _solve_piece(c, target: float, xa: float, xb: float, ea: float, eb: float,
+                 xi: float) -> float:
     """xi in [xa, xb] with sum c_k T_k(xi) = target, the sum decreasing from ea to eb there.
 
-    Newton's method, kept inside a shrinking bracket (bisection when a step leaves it).
+    Newton's method from the guess ``xi`` (NaN: the linear interpolant), kept inside a
+    shrinking bracket (bisection when a step leaves it); stops when the residual in e is
+    below _INVERSE_TOL.
     """
     if ea <= eb:
         return xa
-    xi = xa + (xb - xa) * (ea - target) / (ea - eb)
+    if not (xa <= xi <= xb):
+        xi = xa + (xb - xa) * (ea - target) / (ea - eb)
     for _ in range(60):
         f, df = _cheb_d(c, xi)
         f -= target
+        if abs(f) <= _INVERSE_TOL:
+            break
         if f > 0.0:
             xa = xi
         else:
             xb = xi
-        if f == 0.0 or xb - xa <= 4e-16:
-            break
         new = xi - f / df if df < 0.0 else math.nan
         if not (xa < new < xb):
             new = 0.5 * (xa + xb)
-        done = abs(new - xi) <= 2e-15
-        xi = new
-        if done:
+        if new == xi or xb - xa <= 4e-16:
             break
+        xi = new
     return xi
 
 
-@_jit
+@_ijit
+def _quadratic_guess(s, a: int, target: float) -> float:
+    """xi where the parabola through the samples a, a+1 and a neighbour reaches ``target``
+    (inverse interpolation: xi as a quadratic in e; the samples are evenly spaced in xi)."""
+    ns = s.shape[0]
+    c = a + 2 if a + 2 < ns else a - 1
+    e0, e1, e2 = s[a], s[a + 1], s[c]
+    h = 2.0 / (ns - 1)
+    x0, x1, x2 = -1.0 + a * h, -1.0 + (a + 1) * h, -1.0 + c * h
+    if e0 == e1 or e1 == e2 or e0 == e2:
+        return math.nan
+    return (x0 * (target - e1) * (target - e2) / ((e0 - e1) * (e0 - e2))
+            + x1 * (target - e0) * (target - e2) / ((e1 - e0) * (e1 - e2))
+            + x2 * (target - e0) * (target - e1) / ((e2 - e0) * (e2 - e1)))
+
+
+@_ijit
 def _invert1(breaks, kind, order, anchor, ylo, yhi, coef, samples, target: float) -> float:
     """alpha with e_table(alpha) = target; NaN when the target is below the table's e range.
 
@@ -224,7 +249,7 @@ def _invert1(breaks, kind, order, anchor, ylo, yhi, coef, samples, target: float
         else:
             b = mid
     xi = _solve_piece(coef[i], target, -1.0 + 2.0 * a / (ns - 1), -1.0 + 2.0 * b / (ns - 1),
-                      s[a], s[b])
+                      s[a], s[b], _quadratic_guess(s, a, target))
     return _from_unit(xi, kind[i], order[i], anchor[i], ylo[i], yhi[i])
 
 
@@ -234,7 +259,7 @@ def _invert1_many(breaks, kind, order, anchor, ylo, yhi, coef, samples, e, out):
         out[j] = _invert1(breaks, kind, order, anchor, ylo, yhi, coef, samples, e[j])
 
 
-@_jit
+@_ijit
 def _basis(xi: float, t):
     """t[l] = T_l(xi) for every l."""
     t[0] = 1.0
@@ -244,44 +269,52 @@ def _basis(xi: float, t):
         t[k] = 2.0 * xi * t[k - 1] - t[k - 2]
 
 
-@_jit
-def _rows(c, tb, r):
-    """r[k] = sum_l c[k, l] tb[l]: a 2D piece reduced to a Chebyshev series in alpha."""
-    for k in range(c.shape[0]):
-        acc = 0.0
-        for l in range(c.shape[1]):
-            acc += c[k, l] * tb[l]
-        r[k] = acc
+@_ijit
+def _rows(ct, tb, r):
+    """r[k] = sum_l ct[l, k] tb[l]: a 2D piece (stored transposed, beta index first) reduced
+    to a Chebyshev series in alpha; the inner loop runs over k, so it vectorises."""
+    r[:] = 0.0
+    for l in range(ct.shape[0]):
+        w = tb[l]
+        for k in range(ct.shape[1]):
+            r[k] += ct[l, k] * w
 
 
-@_jit
+@_ijit
 def _unit2(ax, x: float):
     """(piece index, xi) of x on an axis (breaks, kind, order, anchor, ylo, yhi)."""
     i = _locate(ax[0], x)
     return i, _to_unit(x, ax[1][i], ax[2][i], ax[3][i], ax[4][i], ax[5][i])
 
 
-@_jit
-def _eval2(ax, bx, coef, a: float, b: float, tb, r) -> float:
+@_ijit
+def _eval2(ax, bx, ct, a: float, b: float, tb, r) -> float:
     if not (0.0 <= a <= ax[0][-1] and 0.0 <= b <= bx[0][-1]):
         return math.nan
     i, xa = _unit2(ax, a)
     j, xb = _unit2(bx, b)
     _basis(xb, tb)
-    _rows(coef[i, j], tb, r)
+    _rows(ct[i, j], tb, r)
     return _cheb(r, xa)
 
 
-@_jit
+@_ijit
 def _dot(c, t) -> float:
-    acc = 0.0
-    for l in range(t.shape[0]):
-        acc += c[l] * t[l]
-    return acc
+    """sum_l c[l] t[l] in four interleaved partial sums (four independent chains)."""
+    n = t.shape[0]
+    a0 = a1 = a2 = a3 = 0.0
+    for l in range(0, n - 3, 4):
+        a0 += c[l] * t[l]
+        a1 += c[l + 1] * t[l + 1]
+        a2 += c[l + 2] * t[l + 2]
+        a3 += c[l + 3] * t[l + 3]
+    for l in range(n - n % 4, n):
+        a0 += c[l] * t[l]
+    return (a0 + a1) + (a2 + a3)
 
 
-@_jit
-def _invert2(ax, bx, coef, edges, e: float, b: float, tb, r) -> float:
+@_ijit
+def _invert2(ax, bx, ct, edges, e: float, b: float, tb, r) -> float:
     """alpha with e_table(alpha, b) = e; NaN outside the table.
 
     ``edges[i, j, 0]`` and ``edges[i, j, 1]`` are the beta series of e at the left and right
@@ -291,7 +324,7 @@ def _invert2(ax, bx, coef, edges, e: float, b: float, tb, r) -> float:
         return math.nan
     j, xb = _unit2(bx, b)
     _basis(xb, tb)
-    npc = coef.shape[0]
+    npc = ct.shape[0]
     top = _dot(edges[0, j, 0], tb)
     if e >= top:
         return 0.0
@@ -309,31 +342,31 @@ def _invert2(ax, bx, coef, edges, e: float, b: float, tb, r) -> float:
     e_hi = _dot(edges[lo, j, 1], tb)
     if e < e_hi:  # between two pieces that agree to ~1e-12, or below the table
         return ax[0][lo + 1] if lo + 1 < npc else math.nan
-    _rows(coef[lo, j], tb, r)
-    xi = _solve_piece(r, e, -1.0, 1.0, e_lo, e_hi)
+    _rows(ct[lo, j], tb, r)
+    xi = _solve_piece(r, e, -1.0, 1.0, e_lo, e_hi, math.nan)
     return _from_unit(xi, ax[1][lo], ax[2][lo], ax[3][lo], ax[4][lo], ax[5][lo])
 
 
 @_pjit
-def _eval2_many(ax, bx, coef, a, b, out, chunks):
+def _eval2_many(ax, bx, ct, a, b, out, chunks):
     n = a.shape[0]
     size = (n + chunks - 1) // chunks
     for ch in numba.prange(chunks):
-        tb = np.empty(coef.shape[3])
-        r = np.empty(coef.shape[2])
+        tb = np.empty(ct.shape[2])
+        r = np.empty(ct.shape[3])
         for j in range(ch * size, min(n, (ch + 1) * size)):
-            out[j] = _eval2(ax, bx, coef, a[j], b[j], tb, r)
+            out[j] = _eval2(ax, bx, ct, a[j], b[j], tb, r)
 
 
 @_pjit
-def _invert2_many(ax, bx, coef, edges, e, b, out, chunks):
+def _invert2_many(ax, bx, ct, edges, e, b, out, chunks):
     n = e.shape[0]
     size = (n + chunks - 1) // chunks
     for ch in numba.prange(chunks):
-        tb = np.empty(coef.shape[3])
-        r = np.empty(coef.shape[2])
+        tb = np.empty(ct.shape[2])
+        r = np.empty(ct.shape[3])
         for j in range(ch * size, min(n, (ch + 1) * size)):
-            out[j] = _invert2(ax, bx, coef, edges, e[j], b[j], tb, r)
+            out[j] = _invert2(ax, bx, ct, edges, e[j], b[j], tb, r)
 
 
 # --------------------------------------------------------------------------------------------
@@ -409,6 +442,7 @@ class Table:
         else:  # beta series of e at both ends of every alpha piece
             left = np.einsum("k,ijkl->ijl", (-1.0) ** np.arange(self.coef.shape[2]), self.coef)
             self._inv = np.ascontiguousarray(np.stack([left, self.coef.sum(axis=2)], axis=2))
+            self._ct = np.ascontiguousarray(self.coef.transpose(0, 1, 3, 2))  # for _rows
 
     @property
     def alpha_max(self) -> float:
@@ -422,7 +456,7 @@ class Table:
             _eval1_many(*self.alpha_axis, self.coef, a, out)
         else:
             b = np.ascontiguousarray(beta, dtype=float).ravel()
-            _eval2_many(self.alpha_axis, self.beta_axis, self.coef, a, b, out, _chunks())
+            _eval2_many(self.alpha_axis, self.beta_axis, self._ct, a, b, out, _chunks())
         return out.reshape(np.shape(alpha))
 
     def alpha(self, e: np.ndarray, beta: np.ndarray | None = None) -> np.ndarray:
@@ -433,7 +467,7 @@ class Table:
             _invert1_many(*self.alpha_axis, self.coef, self._inv, t, out)
         else:
             b = np.ascontiguousarray(beta, dtype=float).ravel()
-            _invert2_many(self.alpha_axis, self.beta_axis, self.coef, self._inv, t, b, out,
+            _invert2_many(self.alpha_axis, self.beta_axis, self._ct, self._inv, t, b, out,
                           _chunks())
         return out.reshape(np.shape(e))
 
