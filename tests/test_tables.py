@@ -2,9 +2,8 @@
 
 References: the exact batch solver at the tables' node tolerance (``tables.exact_e``, rtol
 1e-14, independent of the interpolation), and the closed forms of tests/references.py for
-Hunt-Crossley and Tsuji.  Tables are built into a temporary cache (VISCONTACT_CACHE_DIR) per
-test session; building all of them relies on the compiled batch solver (seconds, except
-Jian under the zero-overlap end).
+Hunt-Crossley and Tsuji.  Tables are built into the test session's temporary cache
+(conftest.py sets VISCONTACT_CACHE_DIR); building them relies on the compiled batch solver.
 """
 
 import math
@@ -21,17 +20,6 @@ LAWS_1D = ["LH", "Ts", "KK", "Li", "Hunt"]
 ENDS = ["force", "overlap"]
 TOL = 1e-10  # table against exact (issue 4)
 TRIP_TOL = 1e-9  # e_exact(alpha_from_e(e)) against e
-
-
-@pytest.fixture(scope="module", autouse=True)
-def session_cache(tmp_path_factory):
-    """One temporary cache for this module's tables (built once, read by every test)."""
-    mp = pytest.MonkeyPatch()
-    mp.setenv("VISCONTACT_CACHE_DIR", str(tmp_path_factory.mktemp("tables")))
-    tables.clear_memory()
-    yield
-    mp.undo()
-    tables.clear_memory()
 
 
 @pytest.fixture

@@ -15,6 +15,11 @@ its own variable y, chosen so that e is analytic (or at least very smooth) in y:
   than any power for Tsuji).
 - ``ZERO`` e = 0 on [alpha_c, ALPHA_TABLE_MAX], where the exact solver reports no rebound.
 
+Jian's e(alpha, beta) uses tensor-product pieces: rows of beta pieces (POWER with k = 2 on
+[0, 1], LOG above), each row with its own alpha pieces (starting from the KK layout), so
+that refinement stays local (under the zero-overlap end e has a steep ridge across the
+(alpha, beta) plane where a slowly creeping return gives way to a prompt rebound).
+
 Pieces are refined adaptively (halved in y) until the trailing Chebyshev coefficients fall
 below ``_TAIL_TOL``; the finished table is checked against the exact solver on held-out
 random points, piece boundaries and tiny alpha, and refused if any error exceeds
@@ -23,7 +28,8 @@ hashes the source of every module that determines the values, so a code change r
 
 Evaluation and inversion are compiled (numba, parallel over the input array).  The inverse
 alpha(e) is a safeguarded Newton iteration on the (monotone decreasing) interpolant, started
-from a dense sample of each piece.
+by inverse quadratic interpolation in a dense sample of each piece (1D), or from the ends of
+the piece (2D); it stops when the residual in e is below 1e-13.
 """
 
 from __future__ import annotations
@@ -69,7 +75,7 @@ _NODE_RTOL = 1e-14  # batch solver tolerance for the nodes (e to ~1e-14)
 _CRIT_WIDTH = 0.1  # width in alpha of the CRIT piece below alpha_c
 _INVERSE_SAMPLES = 256  # dense samples per piece that start the Newton inversion
 _INVERSE_TOL = 1e-13  # |e_table(alpha) - e| at which the inversion stops (contract: 1e-9)
-_FORMAT = 1  # bump when the file layout changes
+_FORMAT = 2  # bump when the file layout changes
 
 # "contract" lets a * b + c become one fused multiply-add (one rounding, half the latency of
 # the Clenshaw chains); no other fast-math liberties.
@@ -288,13 +294,24 @@ def _unit2(ax, x: float):
 
 
 @_ijit
-def _eval2(ax, bx, ct, a: float, b: float, tb, r) -> float:
-    if not (0.0 <= a <= ax[0][-1] and 0.0 <= b <= bx[0][-1]):
+def _row(rows, j: int):
+    """(first piece, number of pieces) of beta row j on the concatenated alpha axis."""
+    return rows[j], rows[j + 1] - rows[j]
+
+
+@_ijit
+def _eval2(ax, rows, bx, ct, a: float, b: float, tb, r) -> float:
+    if not (0.0 <= b <= bx[0][-1]):
         return math.nan
-    i, xa = _unit2(ax, a)
     j, xb = _unit2(bx, b)
+    g0, n = _row(rows, j)
+    brk = ax[0][g0 + j:g0 + j + n + 1]  # this row's alpha breaks
+    if not (0.0 <= a <= brk[n]):
+        return math.nan
+    g = g0 + _locate(brk, a)
+    xa = _to_unit(a, ax[1][g], ax[2][g], ax[3][g], ax[4][g], ax[5][g])
     _basis(xb, tb)
-    _rows(ct[i, j], tb, r)
+    _rows(ct[g], tb, r)
     return _cheb(r, xa)
 
 
@@ -314,59 +331,60 @@ def _dot(c, t) -> float:
 
 
 @_ijit
-def _invert2(ax, bx, ct, edges, e: float, b: float, tb, r) -> float:
+def _invert2(ax, rows, bx, ct, edges, e: float, b: float, tb, r) -> float:
     """alpha with e_table(alpha, b) = e; NaN outside the table.
 
-    ``edges[i, j, 0]`` and ``edges[i, j, 1]`` are the beta series of e at the left and right
-    end of alpha piece i, so the piece is found without reducing every piece.
+    ``edges[g, 0]`` and ``edges[g, 1]`` are the beta series of e at the left and right end
+    of block g, so the alpha piece is found without reducing every block of the row.
     """
     if not (0.0 <= b <= bx[0][-1]):
         return math.nan
     j, xb = _unit2(bx, b)
+    g0, n = _row(rows, j)
     _basis(xb, tb)
-    npc = ct.shape[0]
-    top = _dot(edges[0, j, 0], tb)
+    top = _dot(edges[g0, 0], tb)
     if e >= top:
         return 0.0
     lo = 0
-    hi = npc - 1
+    hi = n - 1
     e_lo = top
     while lo < hi:  # the last piece whose left end has e >= target
         mid = (lo + hi + 1) // 2
-        v = _dot(edges[mid, j, 0], tb)
+        v = _dot(edges[g0 + mid, 0], tb)
         if v >= e:
             lo = mid
             e_lo = v
         else:
             hi = mid - 1
-    e_hi = _dot(edges[lo, j, 1], tb)
+    g = g0 + lo
+    e_hi = _dot(edges[g, 1], tb)
     if e < e_hi:  # between two pieces that agree to ~1e-12, or below the table
-        return ax[0][lo + 1] if lo + 1 < npc else math.nan
-    _rows(ct[lo, j], tb, r)
+        return ax[0][g + j + 1] if lo + 1 < n else math.nan
+    _rows(ct[g], tb, r)
     xi = _solve_piece(r, e, -1.0, 1.0, e_lo, e_hi, math.nan)
-    return _from_unit(xi, ax[1][lo], ax[2][lo], ax[3][lo], ax[4][lo], ax[5][lo])
+    return _from_unit(xi, ax[1][g], ax[2][g], ax[3][g], ax[4][g], ax[5][g])
 
 
 @_pjit
-def _eval2_many(ax, bx, ct, a, b, out, chunks):
+def _eval2_many(ax, rows, bx, ct, a, b, out, chunks):
     n = a.shape[0]
     size = (n + chunks - 1) // chunks
     for ch in numba.prange(chunks):
-        tb = np.empty(ct.shape[2])
-        r = np.empty(ct.shape[3])
+        tb = np.empty(ct.shape[1])
+        r = np.empty(ct.shape[2])
         for j in range(ch * size, min(n, (ch + 1) * size)):
-            out[j] = _eval2(ax, bx, ct, a[j], b[j], tb, r)
+            out[j] = _eval2(ax, rows, bx, ct, a[j], b[j], tb, r)
 
 
 @_pjit
-def _invert2_many(ax, bx, ct, edges, e, b, out, chunks):
+def _invert2_many(ax, rows, bx, ct, edges, e, b, out, chunks):
     n = e.shape[0]
     size = (n + chunks - 1) // chunks
     for ch in numba.prange(chunks):
-        tb = np.empty(ct.shape[2])
-        r = np.empty(ct.shape[3])
+        tb = np.empty(ct.shape[1])
+        r = np.empty(ct.shape[2])
         for j in range(ch * size, min(n, (ch + 1) * size)):
-            out[j] = _invert2(ax, bx, ct, edges, e[j], b[j], tb, r)
+            out[j] = _invert2(ax, rows, bx, ct, edges, e[j], b[j], tb, r)
 
 
 # --------------------------------------------------------------------------------------------
@@ -421,7 +439,10 @@ def _axis_pieces(axis: tuple[np.ndarray, ...]) -> list[Piece]:
 class Table:
     """Piecewise Chebyshev interpolant of e(alpha) (``beta_axis`` None) or e(alpha, beta).
 
-    ``coef`` has shape (pieces, n) or (alpha pieces, beta pieces, n_alpha, n_beta).
+    1D: ``coef`` has shape (pieces, n).  2D: every beta piece j (a row) has its own alpha
+    pieces, so refinement stays local to where e varies fast; ``rows[j]:rows[j+1]`` are the
+    row's blocks in ``coef`` (blocks, n_alpha, n_beta) and in the concatenated alpha axis,
+    whose breaks of row j sit at ``rows[j] + j`` to ``rows[j+1] + j``.
     ``max_error`` is the largest |e_table - e_exact| seen on the held-out points at build
     time; ``nodes`` the number of exact solves the build took.
     """
@@ -431,6 +452,7 @@ class Table:
     alpha_axis: tuple[np.ndarray, ...]
     coef: np.ndarray
     beta_axis: tuple[np.ndarray, ...] | None = None
+    rows: np.ndarray | None = None
     max_error: float = math.nan
     nodes: int = 0
     build_seconds: float = math.nan
@@ -440,9 +462,9 @@ class Table:
             xi = np.linspace(-1.0, 1.0, _INVERSE_SAMPLES)
             self._inv = np.array([npcheb.chebval(xi, c) for c in self.coef])
         else:  # beta series of e at both ends of every alpha piece
-            left = np.einsum("k,ijkl->ijl", (-1.0) ** np.arange(self.coef.shape[2]), self.coef)
-            self._inv = np.ascontiguousarray(np.stack([left, self.coef.sum(axis=2)], axis=2))
-            self._ct = np.ascontiguousarray(self.coef.transpose(0, 1, 3, 2))  # for _rows
+            left = np.einsum("k,gkl->gl", (-1.0) ** np.arange(self.coef.shape[1]), self.coef)
+            self._inv = np.ascontiguousarray(np.stack([left, self.coef.sum(axis=1)], axis=1))
+            self._ct = np.ascontiguousarray(self.coef.transpose(0, 2, 1))  # for _rows
 
     @property
     def alpha_max(self) -> float:
@@ -456,7 +478,8 @@ class Table:
             _eval1_many(*self.alpha_axis, self.coef, a, out)
         else:
             b = np.ascontiguousarray(beta, dtype=float).ravel()
-            _eval2_many(self.alpha_axis, self.beta_axis, self._ct, a, b, out, _chunks())
+            _eval2_many(self.alpha_axis, self.rows, self.beta_axis, self._ct, a, b, out,
+                        _chunks())
         return out.reshape(np.shape(alpha))
 
     def alpha(self, e: np.ndarray, beta: np.ndarray | None = None) -> np.ndarray:
@@ -467,14 +490,15 @@ class Table:
             _invert1_many(*self.alpha_axis, self.coef, self._inv, t, out)
         else:
             b = np.ascontiguousarray(beta, dtype=float).ravel()
-            _invert2_many(self.alpha_axis, self.beta_axis, self._ct, self._inv, t, b, out,
-                          _chunks())
+            _invert2_many(self.alpha_axis, self.rows, self.beta_axis, self._ct, self._inv, t, b,
+                          out, _chunks())
         return out.reshape(np.shape(e))
 
     def to_arrays(self) -> dict[str, np.ndarray]:
         arrays = {f"alpha_{f}": v for f, v in zip(_AXIS_FIELDS, self.alpha_axis)}
         if self.beta_axis is not None:
             arrays |= {f"beta_{f}": v for f, v in zip(_AXIS_FIELDS, self.beta_axis)}
+            arrays["rows"] = self.rows
         return arrays | {
             "coef": self.coef, "max_error": np.float64(self.max_error),
             "nodes": np.int64(self.nodes), "build_seconds": np.float64(self.build_seconds),
@@ -487,15 +511,19 @@ class Table:
             raise ValueError("old table format")
         alpha_axis = tuple(d[f"alpha_{f}"] for f in _AXIS_FIELDS)
         beta_axis = tuple(d[f"beta_{f}"] for f in _AXIS_FIELDS) if "beta_breaks" in d else None
+        rows = None if beta_axis is None else np.asarray(d["rows"], dtype=np.int64)
         coef = np.ascontiguousarray(d["coef"], dtype=float)
-        npc = alpha_axis[0].size - 1
-        ok = coef.shape[0] == npc and all(v.shape == (npc,) for v in alpha_axis[1:])
-        if beta_axis is not None:
-            ok = ok and coef.ndim == 4 and coef.shape[1] == beta_axis[0].size - 1
+        npc = coef.shape[0]
+        n_rows = 1 if rows is None else rows.size - 1
+        ok = (alpha_axis[0].size == npc + n_rows and all(v.shape == (npc,) for v in alpha_axis[1:])
+              and coef.ndim == (2 if rows is None else 3))
+        if rows is not None:
+            ok = ok and beta_axis[0].size == rows.size and rows[0] == 0 and rows[-1] == npc and \
+                bool(np.all(np.diff(rows) > 0))
         if not ok or not np.all(np.isfinite(coef)):
             raise ValueError("inconsistent table arrays")
-        return cls(law, end, alpha_axis, coef, beta_axis, float(d["max_error"]), int(d["nodes"]),
-                   float(d["build_seconds"]))
+        return cls(law, end, alpha_axis, coef, beta_axis, rows, float(d["max_error"]),
+                   int(d["nodes"]), float(d["build_seconds"]))
 
 
 # --------------------------------------------------------------------------------------------
@@ -604,33 +632,44 @@ def _refine_1d(pieces: list[Piece], exact: Exact, n: int) -> list[tuple[Piece, n
     return done
 
 
-def _refine_2d(a_pieces: list[Piece], b_pieces: list[Piece], exact: Exact,
-               n: tuple[int, int]) -> tuple[list[Piece], list[Piece], np.ndarray]:
-    """Tensor grid of pieces; an alpha (beta) piece is halved everywhere when any block over it
-    has alpha (beta) coefficients above _TAIL_TOL."""
+def _refine_2d(a_init: list[Piece], b_init: list[Piece], exact: Exact, n: tuple[int, int]
+               ) -> tuple[list[Piece], list[list[Piece]], list[list[np.ndarray]]]:
+    """Rows (beta pieces), each with its own alpha pieces, refined in rounds: a block with alpha
+    coefficients above _TAIL_TOL has its alpha piece halved (in its row only), and a row with
+    a block whose beta coefficients exceed _TAIL_TOL is halved (both halves keep the row's
+    alpha pieces)."""
     xa, xb = npcheb.chebpts1(n[0]), npcheb.chebpts1(n[1])
     ma, mb = _coef_matrix(n[0]), _coef_matrix(n[1])
     blocks: dict[tuple[Piece, Piece], np.ndarray] = {}
-    for _ in range(_MAX_ROUNDS):
-        todo = [(pa, pb) for pa in a_pieces for pb in b_pieces if (pa, pb) not in blocks]
+
+    def evaluate(rows: dict[Piece, list[Piece]]) -> None:
+        todo = [(pa, pb) for pb, row in rows.items() for pa in row if (pa, pb) not in blocks]
         if todo:
             grids = [np.meshgrid(pa.x_at(xa), pb.x_at(xb), indexing="ij") for pa, pb in todo]
             values = exact(np.concatenate([g[0].ravel() for g in grids]),
                            np.concatenate([g[1].ravel() for g in grids]))
-            for (key, f) in zip(todo, values.reshape(len(todo), *n)):
+            for key, f in zip(todo, values.reshape(len(todo), *n)):
                 blocks[key] = ma @ f @ mb.T
-        split_a = {pa for pa in a_pieces if any(_tail(blocks[pa, pb], 0) > _TAIL_TOL
-                                                 for pb in b_pieces)}
-        split_b = {pb for pb in b_pieces if any(_tail(blocks[pa, pb], 1) > _TAIL_TOL
-                                                 for pa in a_pieces)}
-        if not split_a and not split_b:
+
+    rows = {pb: list(a_init) for pb in b_init}
+    for _ in range(2 * _MAX_ROUNDS):
+        evaluate(rows)
+        new_rows: dict[Piece, list[Piece]] = {}
+        for pb, row in rows.items():
+            split = [pa.halves() if _tail(blocks[pa, pb], 0) > _TAIL_TOL else (pa,) for pa in row]
+            row_split = [h for parts in split for h in parts]
+            if any(_tail(blocks[pa, pb], 1) > _TAIL_TOL for pa in row):
+                new_rows |= {half: row_split for half in pb.halves()}
+            else:
+                new_rows[pb] = row_split
+        if new_rows == rows:
             break
-        a_pieces = [h for pa in a_pieces for h in (pa.halves() if pa in split_a else (pa,))]
-        b_pieces = [h for pb in b_pieces for h in (pb.halves() if pb in split_b else (pb,))]
+        rows = new_rows
+    evaluate(rows)  # the last round's halves, should the rounds run out
     key = lambda pc: float(pc.x_at(-1.0))  # noqa: E731
-    a_pieces, b_pieces = sorted(a_pieces, key=key), sorted(b_pieces, key=key)
-    coef = np.array([[blocks[pa, pb] for pb in b_pieces] for pa in a_pieces])
-    return a_pieces, b_pieces, coef
+    b_pieces = sorted(rows, key=key)
+    a_rows = [sorted(rows[pb], key=key) for pb in b_pieces]
+    return b_pieces, a_rows, [[blocks[pa, pb] for pa in row] for pb, row in zip(b_pieces, a_rows)]
 
 
 def _held_out(pieces: list[Piece], rng: np.random.Generator, per_piece: int = 2) -> np.ndarray:
@@ -660,10 +699,15 @@ def _build_2d(law: str, end: str, exact: Exact, rng: np.random.Generator) -> tup
         raise RuntimeError("the KK table is needed to lay out the Jian table")
     a_init = [pc for pc in _axis_pieces(kk.alpha_axis) if pc.kind != ZERO]
     b_init = [Piece(POWER, 2.0, 0.0, 0.0, 1.0), Piece(LOG, 1.0, 0.0, 0.0, math.log(BETA_TABLE_MAX))]
-    a_pieces, b_pieces, coef = _refine_2d(a_init, b_init, exact, _NODES_2D)
-    table = Table(law, end, _axis(a_pieces), coef, _axis(b_pieces))
-    a_pts, b_pts = _held_out(a_pieces, rng), _held_out(b_pieces, rng)
-    n_rand = 4 * a_pts.size * b_pts.size
+    b_pieces, a_rows, coefs = _refine_2d(a_init, b_init, exact, _NODES_2D)
+    row_axes = [_axis(row) for row in a_rows]
+    alpha_axis = tuple(np.concatenate(parts) for parts in zip(*row_axes))
+    rows = np.cumsum([0] + [len(row) for row in a_rows]).astype(np.int64)
+    table = Table(law, end, alpha_axis, np.array([c for row in coefs for c in row]),
+                  _axis(b_pieces), rows)
+    a_pts = _held_out(list({pa for row in a_rows for pa in row}), rng, 1)
+    b_pts = _held_out(b_pieces, rng)
+    n_rand = 4 * (a_pts.size + b_pts.size)
     pa = np.concatenate([rng.choice(a_pts, b_pts.size), a_pts, rng.uniform(0, ALPHA_TABLE_MAX, n_rand)])
     pb = np.concatenate([b_pts, rng.choice(b_pts, a_pts.size), rng.uniform(0, BETA_TABLE_MAX, n_rand)])
     return table, float(np.max(np.abs(table.e(pa, pb) - exact(pa, pb))))
