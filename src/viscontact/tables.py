@@ -176,12 +176,13 @@ def _eval1_many(breaks, kind, order, anchor, ylo, yhi, coef, x, out):
 
 @_ijit
 def _solve_piece(c, target: float, xa: float, xb: float, ea: float, eb: float,
-                 xi: float) -> float:
+                 xi: float, curvature: float) -> float:
     """xi in [xa, xb] with sum c_k T_k(xi) = target, the sum decreasing from ea to eb there.
 
     Newton's method from the guess ``xi`` (NaN: the linear interpolant), kept inside a
     shrinking bracket (bisection when a step leaves it); stops when the residual in e is
-    below _INVERSE_TOL.
+    below _INVERSE_TOL, or after a step d whose residual is bounded by curvature d^2 / 2
+    below it (``curvature`` >= max |second derivative| on the piece; Taylor).
     """
     if ea <= eb:
         return xa
@@ -199,6 +200,8 @@ def _solve_piece(c, target: float, xa: float, xb: float, ea: float, eb: float,
         new = xi - f / df if df < 0.0 else math.nan
         if not (xa < new < xb):
             new = 0.5 * (xa + xb)
+        elif 0.5 * curvature * (new - xi) ** 2 <= _INVERSE_TOL:
+            return new
         if new == xi or xb - xa <= 4e-16:
             break
         xi = new
@@ -222,7 +225,8 @@ def _quadratic_guess(s, a: int, target: float) -> float:
 
 
 @_ijit
-def _invert1(breaks, kind, order, anchor, ylo, yhi, coef, samples, target: float) -> float:
+def _invert1(breaks, kind, order, anchor, ylo, yhi, coef, samples, curvature,
+             target: float) -> float:
     """alpha with e_table(alpha) = target; NaN when the target is below the table's e range.
 
     ``samples[i]`` holds e at evenly spaced xi in piece i; e decreases along every piece
@@ -255,14 +259,14 @@ def _invert1(breaks, kind, order, anchor, ylo, yhi, coef, samples, target: float
         else:
             b = mid
     xi = _solve_piece(coef[i], target, -1.0 + 2.0 * a / (ns - 1), -1.0 + 2.0 * b / (ns - 1),
-                      s[a], s[b], _quadratic_guess(s, a, target))
+                      s[a], s[b], _quadratic_guess(s, a, target), curvature[i])
     return _from_unit(xi, kind[i], order[i], anchor[i], ylo[i], yhi[i])
 
 
 @_pjit
-def _invert1_many(breaks, kind, order, anchor, ylo, yhi, coef, samples, e, out):
+def _invert1_many(breaks, kind, order, anchor, ylo, yhi, coef, samples, curvature, e, out):
     for j in numba.prange(e.shape[0]):
-        out[j] = _invert1(breaks, kind, order, anchor, ylo, yhi, coef, samples, e[j])
+        out[j] = _invert1(breaks, kind, order, anchor, ylo, yhi, coef, samples, curvature, e[j])
 
 
 @_ijit
@@ -361,30 +365,24 @@ def _invert2(ax, rows, bx, ct, edges, e: float, b: float, tb, r) -> float:
     if e < e_hi:  # between two pieces that agree to ~1e-12, or below the table
         return ax[0][g + j + 1] if lo + 1 < n else math.nan
     _rows(ct[g], tb, r)
-    xi = _solve_piece(r, e, -1.0, 1.0, e_lo, e_hi, math.nan)
+    xi = _solve_piece(r, e, -1.0, 1.0, e_lo, e_hi, math.nan, math.inf)
     return _from_unit(xi, ax[1][g], ax[2][g], ax[3][g], ax[4][g], ax[5][g])
 
 
 @_pjit
-def _eval2_many(ax, rows, bx, ct, a, b, out, chunks):
-    n = a.shape[0]
+def _many2(ax, rows, bx, ct, edges, x, b, out, chunks, invert: bool):
+    """out = e(x, b) (or alpha(x, b) when ``invert``) over the arrays, in parallel chunks
+    that allocate their scratch rows once."""
+    n = x.shape[0]
     size = (n + chunks - 1) // chunks
     for ch in numba.prange(chunks):
         tb = np.empty(ct.shape[1])
         r = np.empty(ct.shape[2])
         for j in range(ch * size, min(n, (ch + 1) * size)):
-            out[j] = _eval2(ax, rows, bx, ct, a[j], b[j], tb, r)
-
-
-@_pjit
-def _invert2_many(ax, rows, bx, ct, edges, e, b, out, chunks):
-    n = e.shape[0]
-    size = (n + chunks - 1) // chunks
-    for ch in numba.prange(chunks):
-        tb = np.empty(ct.shape[1])
-        r = np.empty(ct.shape[2])
-        for j in range(ch * size, min(n, (ch + 1) * size)):
-            out[j] = _invert2(ax, rows, bx, ct, edges, e[j], b[j], tb, r)
+            if invert:
+                out[j] = _invert2(ax, rows, bx, ct, edges, x[j], b[j], tb, r)
+            else:
+                out[j] = _eval2(ax, rows, bx, ct, x[j], b[j], tb, r)
 
 
 # --------------------------------------------------------------------------------------------
@@ -392,7 +390,7 @@ def _invert2_many(ax, rows, bx, ct, edges, e, b, out, chunks):
 # --------------------------------------------------------------------------------------------
 
 def _chunks() -> int:
-    """Work items of the 2D drivers (each allocates its scratch rows once)."""
+    """Work items of the 2D driver :func:`_many2`."""
     return 8 * numba.get_num_threads()
 
 
@@ -461,6 +459,8 @@ class Table:
         if self.beta_axis is None:  # dense samples that start the inversion
             xi = np.linspace(-1.0, 1.0, _INVERSE_SAMPLES)
             self._inv = np.array([npcheb.chebval(xi, c) for c in self.coef])
+            # sum |c''_k| >= max |e''| on a piece (|T_k| <= 1): bounds a Newton step's residual
+            self._curvature = np.array([np.sum(np.abs(npcheb.chebder(c, 2))) for c in self.coef])
         else:  # beta series of e at both ends of every alpha piece
             left = np.einsum("k,gkl->gl", (-1.0) ** np.arange(self.coef.shape[1]), self.coef)
             self._inv = np.ascontiguousarray(np.stack([left, self.coef.sum(axis=1)], axis=1))
@@ -478,8 +478,8 @@ class Table:
             _eval1_many(*self.alpha_axis, self.coef, a, out)
         else:
             b = np.ascontiguousarray(beta, dtype=float).ravel()
-            _eval2_many(self.alpha_axis, self.rows, self.beta_axis, self._ct, a, b, out,
-                        _chunks())
+            _many2(self.alpha_axis, self.rows, self.beta_axis, self._ct, self._inv, a, b, out,
+                   _chunks(), False)
         return out.reshape(np.shape(alpha))
 
     def alpha(self, e: np.ndarray, beta: np.ndarray | None = None) -> np.ndarray:
@@ -487,11 +487,11 @@ class Table:
         t = np.ascontiguousarray(e, dtype=float).ravel()
         out = np.empty(t.shape)
         if self.beta_axis is None:
-            _invert1_many(*self.alpha_axis, self.coef, self._inv, t, out)
+            _invert1_many(*self.alpha_axis, self.coef, self._inv, self._curvature, t, out)
         else:
             b = np.ascontiguousarray(beta, dtype=float).ravel()
-            _invert2_many(self.alpha_axis, self.rows, self.beta_axis, self._ct, self._inv, t, b,
-                          out, _chunks())
+            _many2(self.alpha_axis, self.rows, self.beta_axis, self._ct, self._inv, t, b, out,
+                   _chunks(), True)
         return out.reshape(np.shape(e))
 
     def to_arrays(self) -> dict[str, np.ndarray]:
