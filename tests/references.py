@@ -78,6 +78,13 @@ def taylor_reference(p: float, alpha: float, beta: float, end: str, t_stop: floa
             sig += h
             if sol(sig)[2] > t_stop:
                 return None
-        root = mp.findroot(fn, (sig - h, sig), solver="anderson")
+        try:
+            root = mp.findroot(fn, (sig - h, sig), solver="anderson")
+        except ValueError:  # a very flat zero (tiny alpha) defeats findroot: bisect instead
+            lo, hi = sig - h, sig
+            while hi - lo > mp.mpf(10) ** (2 - dps):
+                mid = (lo + hi) / 2
+                lo, hi = (mid, hi) if fn(mid) >= 0 else (lo, mid)
+            root = hi
         s, v, t = sol(root)
         return float(-v), float(t)

@@ -25,18 +25,20 @@ import math
 import numba
 
 __all__ = [
-    "relaxation", "ipow", "spow", "spring_s", "damping_s", "force_s", "force", "rhs_sigma",
-    "end_force_event",
+    "relaxation", "ipow", "spow", "damping_term", "spring_s", "damping_s", "force_s", "force",
+    "rhs_sigma", "rhs_sigma_int", "force_s_int", "end_force_event", "INT_POW_LIMIT",
 ]
 
-_jit = numba.njit(cache=True, fastmath=False, nogil=True)
+_jit = numba.njit(cache=True, fastmath=False, nogil=True, error_model="numpy")
+# Inlined at numba IR level into every caller, so that loops over lanes vectorise.
+_inline = numba.njit(cache=True, fastmath=False, nogil=True, error_model="numpy", inline="always")
 
 
 #: exp(-40) < 5e-18: beyond t = 40 beta the factor g is 1 to double precision
 _RELAXED = 40.0
 
 
-@_jit
+@_inline
 def _expm1_neg(y: float) -> float:
     """exp(-y) - 1 for 0 <= y <= 40 without library calls (so it vectorises across lanes).
 
@@ -46,31 +48,38 @@ def _expm1_neg(y: float) -> float:
     z = -y * (1.0 / 128.0)
     w = 1.0
     for n in range(15, 1, -1):  # Horner: z (1 + z/2 (1 + z/3 (... (1 + z/15))))
-        w = 1.0 + z * w / n
+        w = 1.0 + z * w * (1.0 / n)  # constants once the loop is unrolled
     w = z * w
     for _ in range(7):
         w = w * (2.0 + w)
     return w
 
 
-@_jit
+@_inline
 def relaxation(t: float, beta: float) -> float:
-    """g(t) = 1 - exp(-t/beta), the Jian switch-on factor; 1 when beta = 0 (KK)."""
-    if beta <= 0.0:
-        return 1.0
-    return -_expm1_neg(min(t / beta, _RELAXED))
+    """g(t) = 1 - exp(-t/beta), the Jian switch-on factor; 1 when beta = 0 (KK).
+
+    Written with selects instead of branches so that it vectorises across lanes.
+    """
+    y = t / beta
+    y = y if y < _RELAXED else _RELAXED  # also t/0 = inf; NaN (0/0) is replaced below
+    g = -_expm1_neg(y)
+    return g if beta > 0.0 else 1.0
 
 
-@_jit
+#: :func:`ipow` handles exponents below this in straight-line code
+INT_POW_LIMIT = 64
+
+
+@_inline
 def ipow(s: float, n: int) -> float:
-    """s^n for an integer n >= 0 by binary powering: straight-line code for n < 32."""
+    """s^n for an integer 0 <= n < INT_POW_LIMIT: binary powering without branches or loops
+    of variable length, so that it vectorises across lanes."""
     r = 1.0
     b = s
-    for bit in range(5):
+    for bit in range(6):
         r *= b if (n >> bit) & 1 else 1.0
         b *= b
-    for _ in range(n >> 5):  # b = s^32 here
-        r *= b
     return r
 
 
@@ -78,9 +87,20 @@ def ipow(s: float, n: int) -> float:
 def spow(s: float, k: float) -> float:
     """s^k: a signed integer power when k is integral (smooth through 0), else |s|^k."""
     ki = int(k)
-    if ki == k and ki >= 0:
+    if ki == k and 0 <= ki < INT_POW_LIMIT:
         return ipow(s, ki)
+    if ki == k and ki > 0:
+        r = 1.0
+        for _ in range(ki):
+            r *= s
+        return r
     return abs(s) ** k
+
+
+@_inline
+def damping_term(x_pow_p: float, v: float, t: float, alpha: float, beta: float) -> float:
+    """The damping force alpha g(t) x^p x', given x^p (or s^(m p - q) for the scaled form)."""
+    return alpha * relaxation(t, beta) * x_pow_p * v
 
 
 @_jit
@@ -94,7 +114,7 @@ def damping_s(
     s: float, v: float, t: float, alpha: float, beta: float, p: float, m: int, q: float = 0.0
 ) -> float:
     """Damping force alpha g(t) x^p x' at x = s^m (non-dimensional), divided by s^q."""
-    return alpha * relaxation(t, beta) * spow(s, m * p - q) * v
+    return damping_term(spow(s, m * p - q), v, t, alpha, beta)
 
 
 @_jit
@@ -110,32 +130,59 @@ def force_s(
     return spring_s(s, m, q) + damping_s(s, v, t, alpha, beta, p, m, q)
 
 
+@_inline
+def force_s_int(s: float, v: float, t: float, alpha: float, beta: float, k_spring: int,
+                k_damp: int) -> float:
+    """:func:`force_s` for integer exponents k_spring = 3m/2 - q, k_damp = m p - q (< 64):
+    straight-line code that vectorises across lanes."""
+    return ipow(s, k_spring) + damping_term(ipow(s, k_damp), v, t, alpha, beta)
+
+
 @_jit
 def force(x: float, v: float, t: float, alpha: float, beta: float, p: float) -> float:
     """F^ at overlap x >= 0, velocity v = x', time t since contact start (all non-dimensional)."""
     return force_s(max(x, 0.0), v, t, alpha, beta, p, 1)
 
 
+@_inline
+def _rhs_from_powers(s_m1: float, s_spring: float, s_damp: float, v: float, t: float,
+                     alpha: float, beta: float, m: int):
+    """(ds, dv, dt, dW) from s^(m-1), s^(3m/2) = x^(3/2) and s^(m p) = x^p."""
+    jac = m * s_m1  # dt/dsigma
+    damp = damping_term(s_damp, v, t, alpha, beta)
+    return v, -jac * (s_spring + damp), jac, jac * damp * v
+
+
 @_jit
 def rhs_sigma(s: float, v: float, t: float, alpha: float, beta: float, p: float, m: int):
     """Right-hand side in sigma-time: (ds, dv, dt, dW), W the dissipated work (units m* v_i^2)."""
-    jac = m * spow(s, m - 1.0)  # dt/dsigma
-    damp = damping_s(s, v, t, alpha, beta, p, m)
-    return v, -jac * (spring_s(s, m) + damp), jac, jac * damp * v
+    return _rhs_from_powers(spow(s, m - 1.0), spring_s(s, m), spow(s, m * p), v, t, alpha, beta, m)
+
+
+@_inline
+def rhs_sigma_int(s: float, v: float, t: float, alpha: float, beta: float, n_damp: int, m: int):
+    """:func:`rhs_sigma` for an integer n_damp = m p < INT_POW_LIMIT: straight-line code
+    (no branches on the exponents, no library calls), which vectorises across lanes."""
+    return _rhs_from_powers(ipow(s, m - 1), ipow(s, (3 * m) // 2), ipow(s, n_damp), v, t,
+                            alpha, beta, m)
 
 
 @_jit
 def end_force_event(
-    s: float, v: float, t: float, alpha: float, beta: float, p: float, m: int, q: float, root: float
+    s: float, v: float, t: float, alpha: float, beta: float, p: float, m: int, q: float
 ) -> float:
-    """Zero-force end event: (F / s^q)^(1/k) (signed), k = 3m/2 - q, ``root`` = 1/k (or 1).
+    """Zero-force end event, positive during the contact, with a simple zero at F = 0.
 
-    The spring term is continued oddly through s = 0, so the function changes sign exactly
-    once near the end even when a step jumps past x = 0; the k-th root keeps the zero simple
-    when alpha -> 0 (where F / s^q tends to s^k).
+    With q = min(m p, 3m/2) and k = 3m/2 - q, F / s^q = s^k + A, where A is the scaled
+    damping term (free of s when k > 0).  For k > 0 the event is the gap s - (-A)^(1/k)
+    (just s while A >= 0): its zero is simple, with slope ds/dsigma = v, even as alpha -> 0
+    where F / s^q itself tends to the k-fold zero of s^k.  For k = 0 it is F / s^q = 1 + A.
+    Only |s| enters A, so the function continues smoothly when a step jumps past x = 0.
     """
-    a_s = abs(s)
-    h = math.copysign(spring_s(a_s, m, q), s) + damping_s(a_s, v, t, alpha, beta, p, m, q)
-    if root == 1.0:
-        return h
-    return math.copysign(abs(h) ** root, h)
+    k = 1.5 * m - q
+    damp = damping_s(abs(s), v, t, alpha, beta, p, m, q)
+    if k == 0.0:
+        return spring_s(abs(s), m, q) + damp
+    if damp >= 0.0:
+        return s
+    return s - (-damp) ** (1.0 / k)

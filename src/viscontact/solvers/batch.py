@@ -1,24 +1,32 @@
-"""Batch solver: many collisions at once, compiled, in lanes, on every core.
+"""Batch solver: many collisions at once, compiled, on every core.
 
 Same equations as the reference solver (the regularised sigma-time system of
 :mod:`viscontact.kernels`: x = s^m, dt = m s^(m-1) dsigma, polynomial in s for m p
 integral) and the same end criteria, but no histories and no Python per collision:
 
-- each thread takes a chunk of the batch and advances ``LANES`` collisions in lockstep
-  with an adaptive explicit Runge-Kutta pair (Dormand-Prince 8(5,3), the coefficients of
-  scipy's DOP853), each lane with its own step size; a finished lane is refilled with the
-  next collision of the chunk, so the cost is linear in the batch size;
-- the end of contact is an event g(y) = min(s, F/s^q (k-th root, zero-force end only),
-  T_MAX - t) crossing zero from above; a step that crosses is not taken but shortened
-  to the crossing by a safeguarded secant iteration (Illinois) on its length, each trial
-  a full Runge-Kutta step from the step's start, so the end state carries the full order
-  of the method (no interpolation error);
-- the force arithmetic is :func:`viscontact.kernels.rhs_sigma` and
-  :func:`viscontact.kernels.end_force_event`, the same expressions the reference uses.
+- the batch is cut into chunks that the threads share (``numba.prange``); a thread
+  advances up to ``_SLOTS`` collisions of its chunk in lockstep, their states stored as
+  structure-of-arrays so that every stage is a plain loop over slots that the compiler
+  vectorises; each slot has its own step size (Dormand-Prince 8(5,3), the tableau
+  shipped with scipy's DOP853, and scipy's error norm and step control); a finished slot
+  takes the next collision of the chunk, or the last live slot, so the cost is linear
+  in the batch size and the memory a few arrays of it;
+- with m p an integer (every named law, and ``power`` with p a multiple of 1/8) the
+  right-hand side is :func:`viscontact.kernels.rhs_sigma_int`: straight-line code, no
+  library calls (the relaxation factor of Jian uses an inline expm1); otherwise the
+  general :func:`viscontact.kernels.rhs_sigma` (|s|^k by pow), slower;
+- the end of contact is an event g(y) = min(s, zero-force gap
+  (:func:`viscontact.kernels.end_force_event`, zero-force end only), T_MAX - t)
+  crossing zero from above; a step that crosses is not taken but shortened to the
+  crossing by safeguarded Newton iterations on its length (slope of g along the
+  solution by a central difference; Illinois secant or bisection when Newton leaves the
+  bracket), each trial a full Runge-Kutta step from the step's start, so the end state
+  carries the full order of the method (no interpolation error).
 
-Accuracy (measured against the references of ``tests/``, alpha, beta in [0, 10], every law,
-both ends): at the default ``rtol`` = :data:`BATCH_RTOL` |e - exact| <= 1e-9 and
-|tc - exact| <= 1e-8; at ``rtol = 1e-13`` about 1e-12 in e.
+Accuracy, measured against the reference solver at rtol 1e-13 and the independent
+references of ``tests/`` (alpha, beta in {0} U [1e-9, 10], every law, both ends):
+at the default ``rtol`` = :data:`BATCH_RTOL` (1e-9), |e - exact| <= 4e-10 and
+|tc - exact| <= 2e-8; at ``rtol = 1e-13``, |e - exact| <~ 2e-12 and |tc - exact| <~ 3e-11.
 """
 
 from __future__ import annotations
@@ -33,20 +41,25 @@ from numpy.typing import ArrayLike
 # The published Dormand-Prince 8(5,3) tableau, as shipped by scipy (not copied here).
 from scipy.integrate._ivp import dop853_coefficients as _dop853
 
-from ..kernels import end_force_event, rhs_sigma
+from ..kernels import (INT_POW_LIMIT, end_force_event, force_s, force_s_int, rhs_sigma,
+                       rhs_sigma_int)
 from ..laws import LawParams
 from .base import END_CRITERIA, T_MAX, Contact
 
-__all__ = ["BatchResult", "solve_batch", "solve_batch_one", "BATCH_RTOL", "LANES"]
+__all__ = ["BatchResult", "solve_batch", "solve_batch_one", "BATCH_RTOL"]
 
 #: Default relative tolerance of the batch solver: meets |e - exact| <= 1e-9 (contract 1e-8).
-BATCH_RTOL: float = 1e-10
-#: Collisions advanced in lockstep by one thread.
-LANES: int = 8
-#: Collisions per parallel work item (threads take chunks; lanes refill within a chunk).
-_CHUNK: int = 512
-#: Steps (accepted, rejected or event trials) after which one collision is declared failed.
-_MAX_STEPS: int = 200_000
+BATCH_RTOL: float = 1e-9
+#: Collisions advanced in lockstep by one thread (slots of structure-of-arrays state).
+_SLOTS: int = 128
+#: Fewest collisions per parallel work item (threads take chunks; slots refill within one).
+_CHUNK: int = 2048
+#: First step in sigma (the solution is a power series in sigma at the start).
+_H0: float = 0.1
+#: Steps (accepted, rejected or event trials) after which one collision is given up: damping
+#: so strong that the explicit method needs ~ alpha steps (LH, zero-overlap end, alpha = 1e4
+#: takes ~3e5; a few seconds at this limit).
+_MAX_STEPS: int = 5_000_000
 
 _NS = _dop853.N_STAGES  # 12 stages; the 13th evaluation is the first of the next step
 _A = np.ascontiguousarray(_dop853.A[:_NS, :_NS])
@@ -74,208 +87,284 @@ class BatchResult:
     separated: np.ndarray
 
 
-_jit = numba.njit(cache=True, nogil=True)
+_jit = numba.njit(cache=True, nogil=True, error_model="numpy")
 
 
 @_jit
-def _event(s, v, t, alpha, beta, p, m, q, root, force_end, t_max):
+def _event(s, v, t, alpha, beta, p, m, q, force_end, t_max):
     """min of the end events, each positive during the contact (see module docstring)."""
     g = min(s, t_max - t)
     if force_end and alpha > 0.0:  # undamped: F = 0 only where x = 0
-        g = min(g, end_force_event(s, v, t, alpha, beta, p, m, q, root))
+        g = min(g, end_force_event(s, v, t, alpha, beta, p, m, q))
     return g
+
+
+@_jit
+def _event_slope(Y, K, l, alpha, beta, p, m, q, force_end, t_max, h):
+    """d(event)/dsigma at slot l of Y by a central difference along the solution, whose
+    direction K[_NS] (the right-hand side at Y) every step computes anyway."""
+    d = 1e-6 * h
+    f = K[_NS, :, l]
+    up = _event(Y[0, l] + d * f[0], Y[1, l] + d * f[1], Y[2, l] + d * f[2], alpha, beta, p, m,
+                q, force_end, t_max)
+    dn = _event(Y[0, l] - d * f[0], Y[1, l] - d * f[1], Y[2, l] - d * f[2], alpha, beta, p, m,
+                q, force_end, t_max)
+    return (up - dn) / (2.0 * d) if d > 0.0 else 0.0
+
+
+@_jit
+def _rhs_slots(Y, K, i, n, a, b, p, m, n_damp, relax):
+    """K[i] = right-hand side at Y for slots 0..n-1; the integer-exponent kernel when
+    n_damp = m p >= 0 (straight-line, vectorised over slots), the general one otherwise.
+    ``relax`` False: every beta is 0 (g = 1), which the compiler then folds away."""
+    if n_damp >= 0 and not relax:
+        for l in range(n):
+            K[i, 0, l], K[i, 1, l], K[i, 2, l], K[i, 3, l] = rhs_sigma_int(
+                Y[0, l], Y[1, l], Y[2, l], a[l], 0.0, n_damp, m)
+    elif n_damp >= 0:
+        for l in range(n):
+            K[i, 0, l], K[i, 1, l], K[i, 2, l], K[i, 3, l] = rhs_sigma_int(
+                Y[0, l], Y[1, l], Y[2, l], a[l], b[l], n_damp, m)
+    else:
+        for l in range(n):
+            K[i, 0, l], K[i, 1, l], K[i, 2, l], K[i, 3, l] = rhs_sigma(
+                Y[0, l], Y[1, l], Y[2, l], a[l], b[l], p, m)
+
+
+@_jit
+def _force_scaled_slots(Y, out, n, a, b, p, m, q, n_damp):
+    """out = F / s^q at Y for slots 0..n-1 (only its sign is used: end-of-contact test)."""
+    if n_damp >= 0:
+        k_spring = (3 * m) // 2 - int(q)
+        k_damp = n_damp - int(q)
+        for l in range(n):
+            out[l] = force_s_int(Y[0, l], Y[1, l], Y[2, l], a[l], b[l], k_spring, k_damp)
+    else:
+        for l in range(n):
+            out[l] = force_s(Y[0, l], Y[1, l], Y[2, l], a[l], b[l], p, m, q)
 
 
 @_jit
 def _first_step(beta, m):
     """Initial step: Jian with small beta switches damping on at t ~ beta (sigma ~ beta^(1/m))."""
-    return 1e-2 if beta <= 0.0 else min(1e-2, 0.1 * beta ** (1.0 / m))
+    return _H0 if beta <= 0.0 else min(_H0, 0.1 * beta ** (1.0 / m))
 
 
 @_jit
-def _solve_range(alpha, beta, lo, hi, p, m, q, root, force_end, rtol, atol, t_max,
+def _solve_range(alpha, beta, lo, hi, p, m, n_damp, q, force_end, rtol, atol, t_max,
                  e_out, tc_out, res_out, w_out, sep_out, steps_out):
-    """Solve collisions lo..hi-1 in LANES lanes, writing the outputs (see module docstring)."""
-    L = LANES
-    y0 = np.zeros((_NV, L))  # state at the start of the current step
-    y1 = np.zeros((_NV, L))  # trial state at its end
-    ys = np.zeros((_NV, L))  # stage state
-    K = np.zeros((_NS + 1, _NV, L))
-    h = np.zeros(L)
-    sig = np.zeros(L)
-    a = np.zeros(L)
-    b = np.zeros(L)
-    ev0 = np.zeros(L)  # event value at y0
-    idx = np.full(L, -1)  # collision in each lane (-1: idle)
-    rejected = np.zeros(L, dtype=np.bool_)
-    locating = np.zeros(L, dtype=np.bool_)
-    h_lo = np.zeros(L)  # event bracket on the step length: g(h_lo) > 0 > g(h_hi)
-    h_hi = np.zeros(L)
-    g_lo = np.zeros(L)
-    g_hi = np.zeros(L)
-    side = np.zeros(L, dtype=np.int64)  # Illinois: which end moved last
-    nsteps = np.zeros(L, dtype=np.int64)
+    """Solve collisions lo..hi-1 in up to _SLOTS slots advanced in lockstep.
 
+    Slots 0..n-1 are live; a finished slot takes the next collision, or, when none is left,
+    the state of the last live slot (so the live slots stay contiguous and every loop over
+    them is a plain vectorisable loop).
+    """
+    C = min(_SLOTS, hi - lo)
+    Y0 = np.zeros((_NV, C))  # state at the start of the current step
+    Y1 = np.zeros((_NV, C))  # trial state at its end
+    YS = np.zeros((_NV, C))  # stage state
+    E = np.zeros((_NV, C))  # error estimate
+    K = np.zeros((_NS + 1, _NV, C))
+    h, sig, a, b = np.zeros(C), np.zeros(C), np.zeros(C), np.zeros(C)
+    err, fac, fend = np.zeros(C), np.zeros(C), np.zeros(C)
+    active_force = np.zeros(C, dtype=np.bool_)  # zero-force event on (force end, alpha > 0)
+    rejected = np.zeros(C, dtype=np.bool_)
+    locating = np.zeros(C, dtype=np.bool_)
+    special = np.zeros(C, dtype=np.bool_)  # crossing found or locating: handled one by one
+    h_lo, h_hi, g_lo, g_hi = np.zeros(C), np.zeros(C), np.zeros(C), np.zeros(C)
+    side = np.zeros(C, dtype=np.int64)  # Illinois: which end of the bracket moved last
+    idx = np.zeros(C, dtype=np.int64)
+    nsteps = np.zeros(C, dtype=np.int64)
+
+    relax = False
+    for k in range(lo, hi):
+        relax |= beta[k] > 0.0
     nxt = lo
-    active = 0
-    for l in range(L):
-        if nxt < hi:
-            idx[l] = nxt
-            nxt += 1
-            active += 1
-        # idle lanes keep a harmless state (s = 0, v = 1, alpha = 0) and h = 0
-    for l in range(L):
-        _load(l, idx[l], alpha, beta, a, b, y0, K, h, sig, ev0, rejected, locating, nsteps,
-              p, m)
+    n = C
+    for l in range(n):
+        _load(l, nxt, alpha, beta, a, b, Y0, K, h, sig, rejected, locating, nsteps, idx,
+              active_force, force_end, p, m)
+        nxt += 1
 
-    while active > 0:
-        # --- one Runge-Kutta step in every lane (straight-line over lanes) ---
-        for i in range(1, _NS):
-            for c in range(_NV):
-                for l in range(L):
-                    ys[c, l] = 0.0
-                for j in range(i):
-                    aij = _A[i, j]
-                    for l in range(L):
-                        ys[c, l] += aij * K[j, c, l]
-                for l in range(L):
-                    ys[c, l] = y0[c, l] + h[l] * ys[c, l]
-            for l in range(L):
-                K[i, 0, l], K[i, 1, l], K[i, 2, l], K[i, 3, l] = rhs_sigma(
-                    ys[0, l], ys[1, l], ys[2, l], a[l], b[l], p, m)
-        for c in range(_NV):
-            for l in range(L):
-                y1[c, l] = 0.0
-            for j in range(_NS):
-                bj = _B[j]
-                for l in range(L):
-                    y1[c, l] += bj * K[j, c, l]
-            for l in range(L):
-                y1[c, l] = y0[c, l] + h[l] * y1[c, l]
-        for l in range(L):
-            K[_NS, 0, l], K[_NS, 1, l], K[_NS, 2, l], K[_NS, 3, l] = rhs_sigma(
-                y1[0, l], y1[1, l], y1[2, l], a[l], b[l], p, m)
-
-        # --- per-lane control: accept / reject / locate the end / refill ---
-        for l in range(L):
-            if idx[l] < 0:
-                continue
-            nsteps[l] += 1
-            g1 = _event(y1[0, l], y1[1, l], y1[2, l], a[l], b[l], p, m, q, root, force_end, t_max)
-            if locating[l]:
-                done = False
-                if g1 > 0.0:
-                    h_lo[l], g_lo[l] = h[l], g1
-                    if side[l] == 1:
-                        g_hi[l] *= 0.5
-                    side[l] = 1
-                elif g1 < 0.0:
-                    h_hi[l], g_hi[l] = h[l], g1
-                    if side[l] == -1:
-                        g_lo[l] *= 0.5
-                    side[l] = -1
+    while n > 0:
+        # --- one Runge-Kutta step in every live slot (plain loops over slots) ---
+        for i in range(1, _NS + 1):
+            last = i == _NS  # the solution; its right-hand side is the next step's first stage
+            Yt = Y1 if last else YS
+            u0, u1, u2, u3 = Yt[0], Yt[1], Yt[2], Yt[3]
+            for j in range(i):
+                w = _B[j] if last else _A[i, j]
+                k0, k1, k2, k3 = K[j, 0], K[j, 1], K[j, 2], K[j, 3]
+                if j == 0:
+                    for l in range(n):
+                        u0[l] = w * k0[l]
+                        u1[l] = w * k1[l]
+                        u2[l] = w * k2[l]
+                        u3[l] = w * k3[l]
                 else:
-                    done = True
-                width = h_hi[l] - h_lo[l]
-                if width <= 4e-16 * (sig[l] + h_hi[l]) or nsteps[l] > _MAX_STEPS:
-                    done = True
-                if not done:
-                    hn = h_lo[l] - g_lo[l] * width / (g_hi[l] - g_lo[l])
-                    if not (h_lo[l] < hn < h_hi[l]):
-                        hn = 0.5 * (h_lo[l] + h_hi[l])
-                    h[l] = hn
-                    continue
-                k = idx[l]
-                sep = y1[2, l] < t_max * (1.0 - 1e-12) and nsteps[l] <= _MAX_STEPS
-                sep_out[k] = sep
-                e_out[k] = max(-y1[1, l], 0.0) if sep else 0.0
-                tc_out[k] = y1[2, l] if sep else math.inf
-                res_out[k] = max(y1[0, l], 0.0) ** m
-                w_out[k] = y1[3, l]
-                steps_out[k] = nsteps[l]
-                if nxt < hi:
-                    idx[l] = nxt
-                    nxt += 1
-                else:
-                    idx[l] = -1
-                    active -= 1
-                _load(l, idx[l], alpha, beta, a, b, y0, K, h, sig, ev0, rejected, locating,
-                      nsteps, p, m)
-                continue
-
-            # error estimate of the 8(5,3) pair (as scipy's DOP853)
+                    for l in range(n):
+                        u0[l] += w * k0[l]
+                        u1[l] += w * k1[l]
+                        u2[l] += w * k2[l]
+                        u3[l] += w * k3[l]
+            y0, y1, y2, y3 = Y0[0], Y0[1], Y0[2], Y0[3]
+            for l in range(n):
+                hl = h[l]
+                u0[l] = y0[l] + hl * u0[l]
+                u1[l] = y1[l] + hl * u1[l]
+                u2[l] = y2[l] + hl * u2[l]
+                u3[l] = y3[l] + hl * u3[l]
+            _rhs_slots(Yt, K, i, n, a, b, p, m, n_damp, relax)
+        # --- error estimate of the 8(5,3) pair (as scipy's DOP853): differences in YS
+        # (5th order) and E (3rd order), then the norms over the components ---
+        for j in range(_NS + 1):
+            c5 = _E5[j]
+            c3 = _E3[j]
+            k0, k1, k2, k3 = K[j, 0], K[j, 1], K[j, 2], K[j, 3]
+            if j == 0:
+                for l in range(n):
+                    YS[0, l] = c5 * k0[l]
+                    YS[1, l] = c5 * k1[l]
+                    YS[2, l] = c5 * k2[l]
+                    YS[3, l] = c5 * k3[l]
+                    E[0, l] = c3 * k0[l]
+                    E[1, l] = c3 * k1[l]
+                    E[2, l] = c3 * k2[l]
+                    E[3, l] = c3 * k3[l]
+            else:
+                for l in range(n):
+                    YS[0, l] += c5 * k0[l]
+                    YS[1, l] += c5 * k1[l]
+                    YS[2, l] += c5 * k2[l]
+                    YS[3, l] += c5 * k3[l]
+                    E[0, l] += c3 * k0[l]
+                    E[1, l] += c3 * k1[l]
+                    E[2, l] += c3 * k2[l]
+                    E[3, l] += c3 * k3[l]
+        for l in range(n):
             e5 = 0.0
             e3 = 0.0
             for c in range(_NV):
-                sc = atol + rtol * max(abs(y0[c, l]), abs(y1[c, l]))
-                d5 = 0.0
-                d3 = 0.0
-                for j in range(_NS + 1):
-                    d5 += _E5[j] * K[j, c, l]
-                    d3 += _E3[j] * K[j, c, l]
-                e5 += (d5 / sc) ** 2
-                e3 += (d3 / sc) ** 2
-            den = e5 + 0.01 * e3
-            err = abs(h[l]) * e5 / math.sqrt(den * _NV) if den > 0.0 else 0.0
-            if err > 1.0 or not math.isfinite(err):
-                factor = _SAFETY * err ** (-1.0 / 8.0) if math.isfinite(err) else _MIN_FACTOR
-                h[l] *= max(_MIN_FACTOR, factor)
-                rejected[l] = True
-                continue
-            if g1 < 0.0:  # the contact ends inside this step: bracket the crossing
-                locating[l] = True
-                h_lo[l], g_lo[l] = 0.0, ev0[l]
-                h_hi[l], g_hi[l] = h[l], g1
-                side[l] = 0
-                hn = -g_lo[l] * h[l] / (g1 - g_lo[l])
-                h[l] = hn if 0.0 < hn < h_hi[l] else 0.5 * h_hi[l]
-                continue
-            # accept
-            for c in range(_NV):
-                y0[c, l] = y1[c, l]
-                K[0, c, l] = K[_NS, c, l]
-            sig[l] += h[l]
-            ev0[l] = g1
-            factor = _MAX_FACTOR if err == 0.0 else min(_MAX_FACTOR, _SAFETY * err ** (-1.0 / 8.0))
+                sc = atol + rtol * max(abs(Y0[c, l]), abs(Y1[c, l]))
+                e5 += (YS[c, l] / sc) ** 2
+                e3 += (E[c, l] / sc) ** 2
+            err[l] = e5
+            fac[l] = e3
+        _force_scaled_slots(Y1, fend, n, a, b, p, m, q, n_damp)
+        # --- accept or reject (vectorised); crossings and locating slots are special ---
+        for l in range(n):
+            e5 = err[l]
+            den = e5 + 0.01 * fac[l]
+            en = abs(h[l]) * e5 / math.sqrt(den * _NV) if den > 0.0 else 0.0
+            ok = en <= 1.0  # False for NaN
+            cross = (Y1[0, l] < 0.0) | (Y1[2, l] > t_max) | (active_force[l] & (fend[l] < 0.0))
+            special[l] = locating[l] | (ok & cross)
+            # err^(-1/8) by three square roots (vectorises; no pow)
+            grow = _SAFETY / math.sqrt(math.sqrt(math.sqrt(en))) if en > 0.0 else _MAX_FACTOR
+            grow = min(_MAX_FACTOR, grow)
             if rejected[l]:
-                factor = min(1.0, factor)
-            rejected[l] = False
-            h[l] *= factor
-            if nsteps[l] > _MAX_STEPS:  # give up on this collision: make it end now
-                locating[l] = True
+                grow = min(1.0, grow)
+            shrink = max(_MIN_FACTOR, grow) if en == en else _MIN_FACTOR
+            take = ok & ~special[l]
+            for c in range(_NV):
+                Y0[c, l] = Y1[c, l] if take else Y0[c, l]
+                K[0, c, l] = K[_NS, c, l] if take else K[0, c, l]
+            sig[l] = sig[l] + h[l] if take else sig[l]
+            hn = h[l] * (grow if ok else shrink)
+            h[l] = h[l] if special[l] else hn
+            rejected[l] = rejected[l] if special[l] else ~ok
+            nsteps[l] += 1
+        # --- one by one: bracket and locate the end, finish, refill or compact ---
+        for l in range(n - 1, -1, -1):
+            if not special[l]:
+                if nsteps[l] <= _MAX_STEPS:
+                    continue
+                locating[l] = True  # give up on this collision: end it here
                 h_lo[l], h_hi[l], g_lo[l], g_hi[l] = 0.0, 0.0, 1.0, -1.0
                 h[l] = 0.0
+                continue
+            g1 = _event(Y1[0, l], Y1[1, l], Y1[2, l], a[l], b[l], p, m, q, force_end, t_max)
+            slope = _event_slope(Y1, K, l, a[l], b[l], p, m, q, force_end, t_max, h[l])
+            if not locating[l]:  # a crossing inside this step: bracket it on the step length
+                g0 = _event(Y0[0, l], Y0[1, l], Y0[2, l], a[l], b[l], p, m, q, force_end, t_max)
+                locating[l] = True
+                h_lo[l], g_lo[l] = 0.0, max(g0, 0.0)
+                h_hi[l], g_hi[l] = h[l], min(g1, 0.0)
+                side[l] = 0
+            elif g1 > 0.0:
+                h_lo[l], g_lo[l] = h[l], g1
+                if side[l] == 1:
+                    g_hi[l] *= 0.5
+                side[l] = 1
+            elif g1 < 0.0:
+                h_hi[l], g_hi[l] = h[l], g1
+                if side[l] == -1:
+                    g_lo[l] *= 0.5
+                side[l] = -1
+            # Newton on the step length (slope of the event along the solution), kept inside
+            # the bracket; else the Illinois secant; else bisection
+            width = h_hi[l] - h_lo[l]
+            hn = h[l] - g1 / slope if slope != 0.0 else -1.0
+            if not h_lo[l] < hn < h_hi[l]:
+                hn = h_lo[l] - g_lo[l] * width / (g_hi[l] - g_lo[l])
+            if not h_lo[l] < hn < h_hi[l]:
+                hn = 0.5 * (h_lo[l] + h_hi[l])
+            tol = 4e-16 * (sig[l] + h_hi[l])
+            if not (g1 == 0.0 or abs(hn - h[l]) <= tol or width <= tol
+                    or nsteps[l] > _MAX_STEPS):
+                h[l] = hn
+                continue
+            k = idx[l]
+            sep = Y1[2, l] < t_max * (1.0 - 1e-12) and nsteps[l] <= _MAX_STEPS
+            sep_out[k] = sep
+            e_out[k] = max(-Y1[1, l], 0.0) if sep else 0.0
+            tc_out[k] = Y1[2, l] if sep else math.inf
+            res_out[k] = max(Y1[0, l], 0.0) ** m
+            w_out[k] = Y1[3, l]
+            steps_out[k] = nsteps[l]
+            if nxt < hi:
+                _load(l, nxt, alpha, beta, a, b, Y0, K, h, sig, rejected, locating, nsteps, idx,
+                      active_force, force_end, p, m)
+                nxt += 1
+                continue
+            n -= 1  # move the last live slot here (it was handled already)
+            if l < n:
+                for c in range(_NV):
+                    Y0[c, l] = Y0[c, n]
+                    Y1[c, l] = Y1[c, n]
+                    K[0, c, l] = K[0, c, n]
+                h[l], sig[l], a[l], b[l] = h[n], sig[n], a[n], b[n]
+                active_force[l], rejected[l], locating[l] = active_force[n], rejected[n], locating[n]
+                h_lo[l], h_hi[l], g_lo[l], g_hi[l] = h_lo[n], h_hi[n], g_lo[n], g_hi[n]
+                side[l], idx[l], nsteps[l] = side[n], idx[n], nsteps[n]
 
 
 @_jit
-def _load(l, k, alpha, beta, a, b, y0, K, h, sig, ev0, rejected, locating, nsteps, p, m):
-    """Put collision k (or an idle placeholder when k < 0) into lane l at x = 0, x' = 1."""
-    if k >= 0:
-        a[l] = alpha[k]
-        b[l] = beta[k]
-        h[l] = _first_step(b[l], m)
-    else:
-        a[l] = 0.0
-        b[l] = 0.0
-        h[l] = 0.0
-    y0[0, l], y0[1, l], y0[2, l], y0[3, l] = 0.0, 1.0, 0.0, 0.0
+def _load(l, k, alpha, beta, a, b, Y0, K, h, sig, rejected, locating, nsteps, idx, active_force,
+          force_end, p, m):
+    """Put collision k into slot l at x = 0, x' = 1."""
+    a[l] = alpha[k]
+    b[l] = beta[k]
+    h[l] = _first_step(b[l], m)
+    Y0[0, l], Y0[1, l], Y0[2, l], Y0[3, l] = 0.0, 1.0, 0.0, 0.0
     K[0, 0, l], K[0, 1, l], K[0, 2, l], K[0, 3, l] = rhs_sigma(0.0, 1.0, 0.0, a[l], b[l], p, m)
     sig[l] = 0.0
-    ev0[l] = 0.0
     rejected[l] = False
     locating[l] = False
     nsteps[l] = 0
+    idx[l] = k
+    active_force[l] = force_end and a[l] > 0.0
 
 
 @numba.njit(cache=True, nogil=True, parallel=True)
-def _solve_all(alpha, beta, p, m, q, root, force_end, rtol, atol, t_max,
+def _solve_all(alpha, beta, chunk, p, m, n_damp, q, force_end, rtol, atol, t_max,
                e_out, tc_out, res_out, w_out, sep_out, steps_out):
     n = alpha.size
-    n_chunks = (n + _CHUNK - 1) // _CHUNK
+    n_chunks = (n + chunk - 1) // chunk
     for c in prange(n_chunks):
-        lo = c * _CHUNK
-        hi = min(n, lo + _CHUNK)
-        _solve_range(alpha, beta, lo, hi, p, m, q, root, force_end, rtol, atol, t_max,
+        lo = c * chunk
+        hi = min(n, lo + chunk)
+        _solve_range(alpha, beta, lo, hi, p, m, n_damp, q, force_end, rtol, atol, t_max,
                      e_out, tc_out, res_out, w_out, sep_out, steps_out)
 
 
@@ -307,13 +396,19 @@ def solve_batch(
     steps = np.empty(n, dtype=np.int64)
     m, p = lp.m, lp.p
     q = min(m * p, 1.5 * m)
-    k = 1.5 * m - q
-    root = 1.0 / k if k > 1 else 1.0
+    n_damp = int(m * p) if m * p == int(m * p) and 1.5 * m < INT_POW_LIMIT else -1
+    if not 0 <= n_damp < INT_POW_LIMIT:
+        n_damp = -1
     if n:
-        _solve_all(a, b, p, m, q, root, end == "force", rtol, rtol * 1e-2, T_MAX,
+        # a few chunks per thread: balanced, and few half-empty tails of slots
+        chunk = max(_CHUNK, -(-n // (4 * numba.get_num_threads())))
+        _solve_all(a, b, chunk, p, m, n_damp, q, end == "force", rtol, rtol * 1e-2, T_MAX,
                    e, tc, res, w, sep, steps)
-        if steps.max() > _MAX_STEPS:  # pragma: no cover - a solver failure is a bug
-            raise RuntimeError("batch solver: step limit reached (please report this input)")
+        over = np.flatnonzero(steps > _MAX_STEPS)
+        if over.size:
+            raise ValueError(
+                f"alpha = {a[over[0]]:g} (beta = {b[over[0]]:g}) damps so strongly that the "
+                f"solver gave up after {_MAX_STEPS} steps; alpha up to about 1e4 is supported")
     return BatchResult(*(x.reshape(shape) for x in (e, tc, res, w, sep)))
 
 

@@ -48,11 +48,8 @@ def solve_reference(
     if end == "force" and alpha > 0:  # undamped: F = 0 only where x = 0
         q = min(m * p, 1.5 * m)
 
-        k = 1.5 * m - q  # F / s^q = s^k + (damping term)
-        root = 1.0 / k if k > 1 else 1.0
-
         def zero_force(_s, y):
-            return end_force_event(y[0], y[1], y[2], alpha, beta, p, m, q, root)
+            return end_force_event(y[0], y[1], y[2], alpha, beta, p, m, q)
 
         events.append(_event(zero_force, True, -1.0))
     # Jian with tiny beta switches damping on at t ~ beta: do not step over it.
