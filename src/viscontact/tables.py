@@ -52,7 +52,8 @@ from numpy.typing import ArrayLike
 
 __all__ = [
     "ALPHA_TABLE_MAX", "BETA_TABLE_MAX", "VERIFY_TOL", "TABLE_LAWS", "Table", "build_all",
-    "cache_dir", "code_key", "enabled", "get_table", "clear_memory",
+    "cache_dir", "clear_memory", "code_key", "enabled", "exact_e", "get_table", "table_path",
+    "through_tables",
 ]
 
 #: alpha (and beta, Jian) range the tables cover; outside it the exact solver answers.
@@ -234,7 +235,7 @@ def _invert1(breaks, kind, order, anchor, ylo, yhi, coef, samples, curvature,
     """
     npc = coef.shape[0]
     ns = samples.shape[1]
-    if target >= samples[0, 0]:
+    if target >= 1.0 or target >= samples[0, 0]:  # e = 1 only without damping
         return 0.0
     lo = 0
     hi = npc - 1
@@ -347,7 +348,7 @@ def _invert2(ax, rows, bx, ct, edges, e: float, b: float, tb, r) -> float:
     g0, n = _row(rows, j)
     _basis(xb, tb)
     top = _dot(edges[g0, 0], tb)
-    if e >= top:
+    if e >= 1.0 or e >= top:  # e = 1 only without damping
         return 0.0
     lo = 0
     hi = n - 1
@@ -465,10 +466,6 @@ class Table:
             left = np.einsum("k,gkl->gl", (-1.0) ** np.arange(self.coef.shape[1]), self.coef)
             self._inv = np.ascontiguousarray(np.stack([left, self.coef.sum(axis=1)], axis=1))
             self._ct = np.ascontiguousarray(self.coef.transpose(0, 2, 1))  # for _rows
-
-    @property
-    def alpha_max(self) -> float:
-        return float(self.alpha_axis[0][-1])
 
     def e(self, alpha: np.ndarray, beta: np.ndarray | None = None) -> np.ndarray:
         """e at each alpha (and beta); NaN where the point lies outside the table."""
