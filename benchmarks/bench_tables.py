@@ -39,7 +39,11 @@ def main() -> None:
     import viscontact as vc
     from viscontact import tables
 
+    import numba
+
     ends = vc.END_CRITERIA
+    print(f"numba threads: {numba.get_num_threads()}, load average: {os.getloadavg()[0]:.2f} "
+          "(timings on a shared machine scale with the cores actually free)")
     print(f"cold build into {cache.name}")
     t_all = time.perf_counter()
     for law in args.laws:
