@@ -210,19 +210,25 @@ def _solve_piece(c, target: float, xa: float, xb: float, ea: float, eb: float,
 
 
 @_ijit
-def _quadratic_guess(s, a: int, target: float) -> float:
-    """xi where the parabola through the samples a, a+1 and a neighbour reaches ``target``
-    (inverse interpolation: xi as a quadratic in e; the samples are evenly spaced in xi)."""
-    ns = s.shape[0]
-    c = a + 2 if a + 2 < ns else a - 1
-    e0, e1, e2 = s[a], s[a + 1], s[c]
-    h = 2.0 / (ns - 1)
-    x0, x1, x2 = -1.0 + a * h, -1.0 + (a + 1) * h, -1.0 + c * h
+def _inverse_quadratic(x0: float, e0: float, x1: float, e1: float, x2: float, e2: float,
+                       target: float) -> float:
+    """x where the parabola x(e) through three points takes e = ``target`` (NaN if two e agree)."""
     if e0 == e1 or e1 == e2 or e0 == e2:
         return math.nan
     return (x0 * (target - e1) * (target - e2) / ((e0 - e1) * (e0 - e2))
             + x1 * (target - e0) * (target - e2) / ((e1 - e0) * (e1 - e2))
             + x2 * (target - e0) * (target - e1) / ((e2 - e0) * (e2 - e1)))
+
+
+@_ijit
+def _quadratic_guess(s, a: int, target: float) -> float:
+    """Start for the inversion from samples s (evenly spaced in xi): the inverse parabola
+    through samples a, a+1 and a neighbour."""
+    ns = s.shape[0]
+    c = a + 2 if a + 2 < ns else a - 1
+    h = 2.0 / (ns - 1)
+    return _inverse_quadratic(-1.0 + a * h, s[a], -1.0 + (a + 1) * h, s[a + 1], -1.0 + c * h,
+                              s[c], target)
 
 
 @_ijit
@@ -366,7 +372,10 @@ def _invert2(ax, rows, bx, ct, edges, e: float, b: float, tb, r) -> float:
     if e < e_hi:  # between two pieces that agree to ~1e-12, or below the table
         return ax[0][g + j + 1] if lo + 1 < n else math.nan
     _rows(ct[g], tb, r)
-    xi = _solve_piece(r, e, -1.0, 1.0, e_lo, e_hi, math.nan, math.inf)
+    bound = 0.0  # |T_k''| <= k^2 (k^2 - 1) / 3 on [-1, 1]: a bound on the series' curvature
+    for k in range(2, r.shape[0]):
+        bound += abs(r[k]) * (k * k * (k * k - 1.0) / 3.0)
+    xi = _solve_piece(r, e, -1.0, 1.0, e_lo, e_hi, math.nan, bound)
     return _from_unit(xi, ax[1][g], ax[2][g], ax[3][g], ax[4][g], ax[5][g])
 
 
