@@ -592,12 +592,12 @@ def _start_order(law: str, end: str) -> float:
 def _critical_alpha(exact: Exact) -> float | None:
     """alpha_c beyond which the exact solver reports no rebound (None if e(ALPHA_TABLE_MAX) > 0).
 
-    Sections of [lo, hi] by as many points as there are workers, to a few ulp.
+    Sections of [lo, hi] by 31 points a round (one batch solve each), to a few ulp.
     """
     if exact(np.array([ALPHA_TABLE_MAX]))[0] > 0:
         return None
     lo, hi = 0.0, ALPHA_TABLE_MAX
-    points = max(2, os.cpu_count() or 1)
+    points = 31
     while hi - lo > 4e-16 * hi:
         pts = np.linspace(lo, hi, points + 2)[1:-1]
         separated = exact(pts) > 0
