@@ -10,6 +10,7 @@ import pytest
 from hypothesis import HealthCheck, settings
 
 import viscontact
+from viscontact import tables
 
 sys.path.insert(0, str(Path(__file__).parent))  # tests/references.py
 
@@ -20,6 +21,18 @@ settings.register_profile(
 settings.load_profile("viscontact")
 
 SRC = str(Path(viscontact.__file__).resolve().parents[1])
+
+
+@pytest.fixture(scope="session", autouse=True)
+def table_cache(tmp_path_factory):
+    """Interpolation tables go to one temporary cache per test session, never the user's
+    (subprocesses started by the tests inherit it); built once, on first use."""
+    mp = pytest.MonkeyPatch()
+    mp.setenv("VISCONTACT_CACHE_DIR", str(tmp_path_factory.mktemp("table-cache")))
+    tables.clear_memory()
+    yield
+    mp.undo()
+    tables.clear_memory()
 
 
 def run_cli(*args, cwd=None, timeout=300):

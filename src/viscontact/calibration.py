@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from . import tables
 from .collision import check_end
 from .laws import LawParams, check_finite_nonneg, resolve
 from .solvers import solve_batch
@@ -48,7 +49,7 @@ def _e_of(lp: LawParams, alpha: np.ndarray, beta: np.ndarray | None, end: str) -
 
 def restitution(
     model: str, alpha: ArrayLike, *, beta: ArrayLike | None = None, p: float | None = None,
-    end: str = "force",
+    end: str = "force", exact: bool = False,
 ) -> np.ndarray | float:
     """Coefficient of restitution e = -x'(t_c) for each alpha (and beta, Jian).
 
@@ -56,10 +57,13 @@ def restitution(
     array of the broadcast shape.  Accuracy |e - exact| <= 1e-8 (SPEC sections 2-5);
     solved by the compiled batch solver (:func:`viscontact.solvers.solve_batch`).
     A zero-overlap contact that never separates gives e = 0.
+
+    Inside alpha, beta in [0, 10] every law but ``power`` answers from a precomputed table
+    (:mod:`viscontact.tables`, |e - exact| <= 1e-10); ``exact=True`` always solves.
     """
     check_end(end)
     lp, a, b = _law_grid(model, alpha, beta, p)
-    out = _e_of(lp, a, b, end)
+    out = _e_of(lp, a, b, end) if exact else tables.through_tables("e", lp, a, b, end, _e_of)
     return float(out) if out.ndim == 0 else out
 
 
@@ -117,13 +121,15 @@ def _invert(lp: LawParams, target: np.ndarray, beta: np.ndarray | None, end: str
 
 def alpha_from_e(
     model: str, e: ArrayLike, *, beta: ArrayLike | None = None, p: float | None = None,
-    end: str = "force",
+    end: str = "force", exact: bool = False,
 ) -> np.ndarray | float:
     """The damping constant alpha >= 0 that gives restitution ``e`` (inverse of :func:`restitution`).
 
     Broadcasts ``e`` against ``beta``.  |restitution(alpha_from_e(e)) - e| <= 1e-9; e = 1
     gives 0.  Raises ValueError for e outside (0, 1], NaN, or an e the law cannot reach.
     Every element is solved at once: batch solves of the whole array per iteration.
+    Where the law's table (:mod:`viscontact.tables`) reaches, it answers instead (Newton on
+    the interpolant); ``exact=True`` always solves.
     """
     check_end(end)
     raw = np.asarray(e)
@@ -143,6 +149,9 @@ def alpha_from_e(
                 raise ValueError(f"e must be a number in (0, 1]; got {v!r}")
         e_arr = np.asarray(e, dtype=object).astype(float)
     lp, e_f, b = _law_grid(model, e_arr, beta, p)
-    out = _invert(lp, np.ascontiguousarray(e_f).ravel(), None if b is None else
-                  np.ascontiguousarray(b).ravel(), end).reshape(e_f.shape)
+    if exact:
+        out = _invert(lp, np.ascontiguousarray(e_f).ravel(), None if b is None else
+                      np.ascontiguousarray(b).ravel(), end).reshape(e_f.shape)
+    else:
+        out = tables.through_tables("alpha", lp, e_f, b, end, _invert)
     return float(out) if out.ndim == 0 else out
