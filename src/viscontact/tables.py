@@ -75,6 +75,8 @@ _MAX_ROUNDS = 12  # refinement rounds (each halves the pieces that fail)
 _NODE_RTOL = 1e-14  # batch solver tolerance for the nodes (e to ~1e-14)
 _CRIT_WIDTH = 0.1  # width in alpha of the CRIT piece below alpha_c
 _INVERSE_SAMPLES = 256  # dense samples per piece that start the Newton inversion
+_BLOCK_SAMPLES = 9  # e samples per 2D block (beta series) that start its inversion
+_TRUNC_TOL = 1e-13  # coefficients cut from a piece's end may change e by at most this
 _INVERSE_TOL = 1e-13  # |e_table(alpha) - e| at which the inversion stops (contract: 1e-9)
 _FORMAT = 2  # bump when the file layout changes
 
@@ -93,10 +95,30 @@ _pjit = numba.njit(cache=True, fastmath={"contract"}, nogil=True, parallel=True)
 
 
 @_ijit
+def _root(x: float, order: float) -> float:
+    """x^(1/order): the orders met in practice (1, 2) without the slow general pow."""
+    if order == 1.0:
+        return x
+    if order == 2.0:
+        return math.sqrt(x)
+    return x ** (1.0 / order)
+
+
+@_ijit
+def _power(y: float, order: float) -> float:
+    """y^order, the inverse of :func:`_root`."""
+    if order == 1.0:
+        return y
+    if order == 2.0:
+        return y * y
+    return y ** order
+
+
+@_ijit
 def _to_unit(x: float, kind: int, order: float, anchor: float, ylo: float, yhi: float) -> float:
     """Map x (alpha or beta) in a piece to xi in [-1, 1] through the piece's variable y."""
     if kind == POWER:
-        y = x if order == 1.0 else x ** (1.0 / order)
+        y = _root(x, order)
     elif kind == LOG:
         y = math.log(x)
     elif kind == CRIT:  # y grows with x, as in every piece
@@ -112,7 +134,7 @@ def _from_unit(xi: float, kind: int, order: float, anchor: float, ylo: float, yh
     """Inverse of :func:`_to_unit` (x from xi)."""
     y = 0.5 * (ylo + yhi) + 0.5 * (yhi - ylo) * xi
     if kind == POWER:
-        return y if order == 1.0 else max(y, 0.0) ** order
+        return _power(max(y, 0.0), order)
     if kind == LOG:
         return math.exp(y)
     if kind == CRIT:
@@ -161,18 +183,18 @@ def _locate(breaks, x: float) -> int:
 
 
 @_ijit
-def _eval1(breaks, kind, order, anchor, ylo, yhi, coef, x: float) -> float:
+def _eval1(breaks, kind, order, anchor, ylo, yhi, coef, deg, x: float) -> float:
     if not (0.0 <= x <= breaks[-1]):
         return math.nan
     i = _locate(breaks, x)
-    return _cheb(coef[i], _to_unit(x, kind[i], order[i], anchor[i], ylo[i], yhi[i]))
+    return _cheb(coef[i, :deg[i]], _to_unit(x, kind[i], order[i], anchor[i], ylo[i], yhi[i]))
 
 
 @_pjit
-def _eval1_many(breaks, kind, order, anchor, ylo, yhi, coef, x, out):
+def _eval1_many(breaks, kind, order, anchor, ylo, yhi, coef, deg, x, out):
     """out = e(x) for every element (NaN outside the table)."""
     for j in numba.prange(x.shape[0]):
-        out[j] = _eval1(breaks, kind, order, anchor, ylo, yhi, coef, x[j])
+        out[j] = _eval1(breaks, kind, order, anchor, ylo, yhi, coef, deg, x[j])
 
 
 @_ijit
@@ -221,18 +243,28 @@ def _inverse_quadratic(x0: float, e0: float, x1: float, e1: float, x2: float, e2
 
 
 @_ijit
-def _quadratic_guess(s, a: int, target: float) -> float:
-    """Start for the inversion from samples s (evenly spaced in xi): the inverse parabola
-    through samples a, a+1 and a neighbour."""
+def _invert_sampled(c, s, target: float, curvature: float) -> float:
+    """xi in [-1, 1] with sum c_k T_k(xi) = target, given e samples ``s`` at evenly spaced
+    xi (decreasing, s[0] >= target >= s[-1]): bisect the samples, start Newton from the
+    inverse parabola through the bracketing pair and a neighbour (1D and 2D share this)."""
     ns = s.shape[0]
-    c = a + 2 if a + 2 < ns else a - 1
+    a = 0
+    b = ns - 1
+    while b - a > 1:
+        mid = (a + b) // 2
+        if s[mid] >= target:
+            a = mid
+        else:
+            b = mid
     h = 2.0 / (ns - 1)
-    return _inverse_quadratic(-1.0 + a * h, s[a], -1.0 + (a + 1) * h, s[a + 1], -1.0 + c * h,
-                              s[c], target)
+    n3 = a + 2 if a + 2 < ns else a - 1
+    guess = _inverse_quadratic(-1.0 + a * h, s[a], -1.0 + b * h, s[b], -1.0 + n3 * h, s[n3],
+                               target)
+    return _solve_piece(c, target, -1.0 + a * h, -1.0 + b * h, s[a], s[b], guess, curvature)
 
 
 @_ijit
-def _invert1(breaks, kind, order, anchor, ylo, yhi, coef, samples, curvature,
+def _invert1(breaks, kind, order, anchor, ylo, yhi, coef, deg, samples, curvature,
              target: float) -> float:
     """alpha with e_table(alpha) = target; NaN when the target is below the table's e range.
 
@@ -252,48 +284,42 @@ def _invert1(breaks, kind, order, anchor, ylo, yhi, coef, samples, curvature,
         else:
             hi = mid - 1
     i = lo
-    s = samples[i]
-    if target < s[ns - 1]:  # between pieces (they agree to ~1e-12) or below the table
+    if target < samples[i, ns - 1]:  # between pieces (they agree to ~1e-12) or below the table
         if i + 1 < npc and kind[i + 1] != ZERO:
             return breaks[i + 1]
         return math.nan
-    a = 0
-    b = ns - 1
-    while b - a > 1:
-        mid = (a + b) // 2
-        if s[mid] >= target:
-            a = mid
-        else:
-            b = mid
-    xi = _solve_piece(coef[i], target, -1.0 + 2.0 * a / (ns - 1), -1.0 + 2.0 * b / (ns - 1),
-                      s[a], s[b], _quadratic_guess(s, a, target), curvature[i])
+    xi = _invert_sampled(coef[i, :deg[i]], samples[i], target, curvature[i])
     return _from_unit(xi, kind[i], order[i], anchor[i], ylo[i], yhi[i])
 
 
 @_pjit
-def _invert1_many(breaks, kind, order, anchor, ylo, yhi, coef, samples, curvature, e, out):
+def _invert1_many(breaks, kind, order, anchor, ylo, yhi, coef, deg, samples, curvature, e, out):
     for j in numba.prange(e.shape[0]):
-        out[j] = _invert1(breaks, kind, order, anchor, ylo, yhi, coef, samples, curvature, e[j])
+        out[j] = _invert1(breaks, kind, order, anchor, ylo, yhi, coef, deg, samples, curvature,
+                          e[j])
 
 
 @_ijit
-def _basis(xi: float, t):
-    """t[l] = T_l(xi) for every l."""
+def _basis(xi: float, t, n: int):
+    """t[l] = T_l(xi) for l < n."""
     t[0] = 1.0
-    if t.shape[0] > 1:
+    if n > 1:
         t[1] = xi
-    for k in range(2, t.shape[0]):
+    for k in range(2, n):
         t[k] = 2.0 * xi * t[k - 1] - t[k - 2]
 
 
 @_ijit
-def _rows(ct, tb, r):
-    """r[k] = sum_l ct[l, k] tb[l]: a 2D piece (stored transposed, beta index first) reduced
-    to a Chebyshev series in alpha; the inner loop runs over k, so it vectorises."""
-    r[:] = 0.0
-    for l in range(ct.shape[0]):
+def _rows(ct, tb, r, na: int, nb: int):
+    """r[k] = sum_l ct[l, k] tb[l] for k < na, l < nb: a 2D piece (stored transposed, beta
+    index first) cut to its degrees and reduced to a Chebyshev series in alpha.  The whole
+    contiguous block is passed with the counts (a sliced view would lose the layout that
+    lets the inner loop, over k, vectorise)."""
+    for k in range(na):
+        r[k] = 0.0
+    for l in range(nb):
         w = tb[l]
-        for k in range(ct.shape[1]):
+        for k in range(na):
             r[k] += ct[l, k] * w
 
 
@@ -311,7 +337,17 @@ def _row(rows, j: int):
 
 
 @_ijit
-def _eval2(ax, rows, bx, ct, a: float, b: float, tb, r) -> float:
+def _alpha_series(ct, deg, g: int, xb: float, tb, r):
+    """Block g at beta (unit coordinate xb) as a Chebyshev series in alpha: a view of r."""
+    na = deg[g, 0]
+    nb = deg[g, 1]
+    _basis(xb, tb, nb)
+    _rows(ct[g], tb, r, na, nb)
+    return r[:na]
+
+
+@_ijit
+def _eval2(ax, rows, bx, ct, deg, a: float, b: float, tb, r) -> float:
     if not (0.0 <= b <= bx[0][-1]):
         return math.nan
     j, xb = _unit2(bx, b)
@@ -321,9 +357,7 @@ def _eval2(ax, rows, bx, ct, a: float, b: float, tb, r) -> float:
         return math.nan
     g = g0 + _locate(brk, a)
     xa = _to_unit(a, ax[1][g], ax[2][g], ax[3][g], ax[4][g], ax[5][g])
-    _basis(xb, tb)
-    _rows(ct[g], tb, r)
-    return _cheb(r, xa)
+    return _cheb(_alpha_series(ct, deg, g, xb, tb, r), xa)
 
 
 @_ijit
@@ -342,45 +376,46 @@ def _dot(c, t) -> float:
 
 
 @_ijit
-def _invert2(ax, rows, bx, ct, edges, e: float, b: float, tb, r) -> float:
+def _invert2(ax, rows, bx, ct, deg, samples, row_nb, e: float, b: float, tb, r, s) -> float:
     """alpha with e_table(alpha, b) = e; NaN outside the table.
 
-    ``edges[g, 0]`` and ``edges[g, 1]`` are the beta series of e at the left and right end
-    of block g, so the alpha piece is found without reducing every block of the row.
+    ``samples[g, m]`` is the beta series (cut to the row's beta degree ``row_nb``) of e at
+    the m-th of evenly spaced xi in block g: the first ones find the alpha piece without
+    reducing every block of the row, all of them start Newton close to the root.
     """
     if not (0.0 <= b <= bx[0][-1]):
         return math.nan
     j, xb = _unit2(bx, b)
     g0, n = _row(rows, j)
-    _basis(xb, tb)
-    top = _dot(edges[g0, 0], tb)
+    _basis(xb, tb, row_nb[j])
+    tj = tb[:row_nb[j]]
+    top = _dot(samples[g0, 0], tj)
     if e >= 1.0 or e >= top:  # e = 1 only without damping
         return 0.0
     lo = 0
     hi = n - 1
-    e_lo = top
     while lo < hi:  # the last piece whose left end has e >= target
         mid = (lo + hi + 1) // 2
-        v = _dot(edges[g0 + mid, 0], tb)
-        if v >= e:
+        if _dot(samples[g0 + mid, 0], tj) >= e:
             lo = mid
-            e_lo = v
         else:
             hi = mid - 1
     g = g0 + lo
-    e_hi = _dot(edges[g, 1], tb)
-    if e < e_hi:  # between two pieces that agree to ~1e-12, or below the table
+    ns = samples.shape[1]
+    for m in range(ns):
+        s[m] = _dot(samples[g, m], tj)
+    if e < s[ns - 1]:  # between two pieces that agree to ~1e-12, or below the table
         return ax[0][g + j + 1] if lo + 1 < n else math.nan
-    _rows(ct[g], tb, r)
+    c = _alpha_series(ct, deg, g, xb, tb, r)
     bound = 0.0  # |T_k''| <= k^2 (k^2 - 1) / 3 on [-1, 1]: a bound on the series' curvature
-    for k in range(2, r.shape[0]):
-        bound += abs(r[k]) * (k * k * (k * k - 1.0) / 3.0)
-    xi = _solve_piece(r, e, -1.0, 1.0, e_lo, e_hi, math.nan, bound)
+    for k in range(2, c.shape[0]):
+        bound += abs(c[k]) * (k * k * (k * k - 1.0) / 3.0)
+    xi = _invert_sampled(c, s, e, bound)
     return _from_unit(xi, ax[1][g], ax[2][g], ax[3][g], ax[4][g], ax[5][g])
 
 
 @_pjit
-def _many2(ax, rows, bx, ct, edges, x, b, out, chunks, invert: bool):
+def _many2(ax, rows, bx, ct, deg, samples, row_nb, x, b, out, chunks, invert: bool):
     """out = e(x, b) (or alpha(x, b) when ``invert``) over the arrays, in parallel chunks
     that allocate their scratch rows once."""
     n = x.shape[0]
@@ -388,11 +423,12 @@ def _many2(ax, rows, bx, ct, edges, x, b, out, chunks, invert: bool):
     for ch in numba.prange(chunks):
         tb = np.empty(ct.shape[1])
         r = np.empty(ct.shape[2])
+        s = np.empty(samples.shape[1])
         for j in range(ch * size, min(n, (ch + 1) * size)):
             if invert:
-                out[j] = _invert2(ax, rows, bx, ct, edges, x[j], b[j], tb, r)
+                out[j] = _invert2(ax, rows, bx, ct, deg, samples, row_nb, x[j], b[j], tb, r, s)
             else:
-                out[j] = _eval2(ax, rows, bx, ct, x[j], b[j], tb, r)
+                out[j] = _eval2(ax, rows, bx, ct, deg, x[j], b[j], tb, r)
 
 
 # --------------------------------------------------------------------------------------------
@@ -443,6 +479,19 @@ def _axis_pieces(axis: tuple[np.ndarray, ...]) -> list[Piece]:
             for k, o, a, lo, hi in zip(*axis[1:])]
 
 
+def _degree(weights: np.ndarray) -> int:
+    """Terms to keep of a Chebyshev series whose k-th term is at most weights[k] in size:
+    the trailing ones sum to at most _TRUNC_TOL (|T_k| <= 1), so Clenshaw skips them."""
+    tail = np.cumsum(weights[::-1])[::-1]  # tail[k] = sum of weights[k:]
+    return max(1, int(np.count_nonzero(tail > _TRUNC_TOL)))
+
+
+def _degrees_2d(a: np.ndarray) -> tuple[int, int]:
+    """(alpha, beta) degrees of a block |c[k, l]|: half the budget to each direction."""
+    na = _degree(2.0 * a.sum(axis=1))
+    return na, _degree(2.0 * a[:na].sum(axis=0))
+
+
 @dataclass
 class Table:
     """Piecewise Chebyshev interpolant of e(alpha) (``beta_axis`` None) or e(alpha, beta).
@@ -466,26 +515,40 @@ class Table:
     build_seconds: float = math.nan
 
     def __post_init__(self) -> None:
+        """Derive what the compiled kernels use: each piece's coefficients cut to its
+        degrees, and the samples that start the inversion."""
         if self.beta_axis is None:  # dense samples that start the inversion
+            self._deg = np.array([_degree(np.abs(c)) for c in self.coef], dtype=np.int64)
+            cut = [c[:n] for c, n in zip(self.coef, self._deg)]
             xi = np.linspace(-1.0, 1.0, _INVERSE_SAMPLES)
-            self._inv = np.array([npcheb.chebval(xi, c) for c in self.coef])
+            self._inv = np.array([npcheb.chebval(xi, c) for c in cut])
             # sum |c''_k| >= max |e''| on a piece (|T_k| <= 1): bounds a Newton step's residual
-            self._curvature = np.array([np.sum(np.abs(npcheb.chebder(c, 2))) for c in self.coef])
-        else:  # beta series of e at both ends of every alpha piece
-            left = np.einsum("k,gkl->gl", (-1.0) ** np.arange(self.coef.shape[1]), self.coef)
-            self._inv = np.ascontiguousarray(np.stack([left, self.coef.sum(axis=1)], axis=1))
+            self._curvature = np.array([np.sum(np.abs(npcheb.chebder(c, 2))) for c in cut])
+        else:  # beta series of e at evenly spaced alpha in every block
+            self._deg = np.array([_degrees_2d(np.abs(c)) for c in self.coef], dtype=np.int64)
+            na, nb = self.coef.shape[1:]
+            keep = ((np.arange(na)[None, :, None] < self._deg[:, :1, None])
+                    & (np.arange(nb)[None, None, :] < self._deg[:, 1:, None]))
+            cut = np.where(keep, self.coef, 0.0)
+            tx = npcheb.chebvander(np.linspace(-1.0, 1.0, _BLOCK_SAMPLES), na - 1)
+            self._inv = np.ascontiguousarray(np.einsum("mk,gkl->gml", tx, cut))
+            self._row_nb = np.array([self._deg[lo:hi, 1].max()
+                                     for lo, hi in zip(self.rows[:-1], self.rows[1:])])
             self._ct = np.ascontiguousarray(self.coef.transpose(0, 2, 1))  # for _rows
+
+    def _kernel_2d(self) -> tuple:
+        return (self.alpha_axis, self.rows, self.beta_axis, self._ct, self._deg, self._inv,
+                self._row_nb)
 
     def e(self, alpha: np.ndarray, beta: np.ndarray | None = None) -> np.ndarray:
         """e at each alpha (and beta); NaN where the point lies outside the table."""
         a = np.ascontiguousarray(alpha, dtype=float).ravel()
         out = np.empty(a.shape)
         if self.beta_axis is None:
-            _eval1_many(*self.alpha_axis, self.coef, a, out)
+            _eval1_many(*self.alpha_axis, self.coef, self._deg, a, out)
         else:
             b = np.ascontiguousarray(beta, dtype=float).ravel()
-            _many2(self.alpha_axis, self.rows, self.beta_axis, self._ct, self._inv, a, b, out,
-                   _chunks(), False)
+            _many2(*self._kernel_2d(), a, b, out, _chunks(), False)
         return out.reshape(np.shape(alpha))
 
     def alpha(self, e: np.ndarray, beta: np.ndarray | None = None) -> np.ndarray:
@@ -493,11 +556,11 @@ class Table:
         t = np.ascontiguousarray(e, dtype=float).ravel()
         out = np.empty(t.shape)
         if self.beta_axis is None:
-            _invert1_many(*self.alpha_axis, self.coef, self._inv, self._curvature, t, out)
+            _invert1_many(*self.alpha_axis, self.coef, self._deg, self._inv, self._curvature, t,
+                          out)
         else:
             b = np.ascontiguousarray(beta, dtype=float).ravel()
-            _many2(self.alpha_axis, self.rows, self.beta_axis, self._ct, self._inv, t, b, out,
-                   _chunks(), True)
+            _many2(*self._kernel_2d(), t, b, out, _chunks(), True)
         return out.reshape(np.shape(e))
 
     def to_arrays(self) -> dict[str, np.ndarray]:
