@@ -75,9 +75,11 @@ _MAX_ROUNDS = 12  # refinement rounds (each halves the pieces that fail)
 _NODE_RTOL = 1e-14  # batch solver tolerance for the nodes (e to ~1e-14)
 _CRIT_WIDTH = 0.1  # width in alpha of the CRIT piece below alpha_c
 _INVERSE_SAMPLES = 256  # dense samples per piece that start the Newton inversion
-_BLOCK_SAMPLES = 9  # e samples per 2D block (beta series) that start its inversion
 _TRUNC_TOL = 1e-13  # coefficients cut from a piece's end may change e by at most this
 _INVERSE_TOL = 1e-13  # |e_table(alpha) - e| at which the inversion stops (contract: 1e-9)
+#: bound on |e_table(alpha) - e| after a Newton step at which the inversion stops without
+#: evaluating again (a bound, not a residual; still 100 times below the 1e-9 contract)
+_STEP_TOL = 1e-11
 _FORMAT = 2  # bump when the file layout changes
 
 # "contract" lets a * b + c become one fused multiply-add (one rounding, half the latency of
@@ -205,7 +207,7 @@ def _solve_piece(c, target: float, xa: float, xb: float, ea: float, eb: float,
     Newton's method from the guess ``xi`` (NaN: the linear interpolant), kept inside a
     shrinking bracket (bisection when a step leaves it); stops when the residual in e is
     below _INVERSE_TOL, or after a step d whose residual is bounded by curvature d^2 / 2
-    below it (``curvature`` >= max |second derivative| on the piece; Taylor).
+    below _STEP_TOL (``curvature`` >= max |second derivative| on the piece; Taylor).
     """
     if ea <= eb:
         return xa
@@ -223,7 +225,7 @@ def _solve_piece(c, target: float, xa: float, xb: float, ea: float, eb: float,
         new = xi - f / df if df < 0.0 else math.nan
         if not (xa < new < xb):
             new = 0.5 * (xa + xb)
-        elif 0.5 * curvature * (new - xi) ** 2 <= _INVERSE_TOL:
+        elif 0.5 * curvature * (new - xi) ** 2 <= _STEP_TOL:
             return new
         if new == xi or xb - xa <= 4e-16:
             break
@@ -243,24 +245,30 @@ def _inverse_quadratic(x0: float, e0: float, x1: float, e1: float, x2: float, e2
 
 
 @_ijit
-def _invert_sampled(c, s, target: float, curvature: float) -> float:
-    """xi in [-1, 1] with sum c_k T_k(xi) = target, given e samples ``s`` at evenly spaced
-    xi (decreasing, s[0] >= target >= s[-1]): bisect the samples, start Newton from the
-    inverse parabola through the bracketing pair and a neighbour (1D and 2D share this)."""
-    ns = s.shape[0]
+def _bracket(s, target: float) -> int:
+    """a with s[a] >= target > s[a + 1] (s decreasing, s[0] >= target >= s[-1])."""
     a = 0
-    b = ns - 1
+    b = s.shape[0] - 1
     while b - a > 1:
         mid = (a + b) // 2
         if s[mid] >= target:
             a = mid
         else:
             b = mid
+    return a
+
+
+@_ijit
+def _solve_sampled(c, s, a: int, target: float, curvature: float) -> float:
+    """xi in [-1, 1] with sum c_k T_k(xi) = target, given the e samples ``s`` at evenly
+    spaced xi with s[a] >= target >= s[a + 1]: Newton from the inverse parabola through
+    samples a, a + 1 and a neighbour (close enough that one step usually suffices)."""
+    ns = s.shape[0]
     h = 2.0 / (ns - 1)
     n3 = a + 2 if a + 2 < ns else a - 1
-    guess = _inverse_quadratic(-1.0 + a * h, s[a], -1.0 + b * h, s[b], -1.0 + n3 * h, s[n3],
-                               target)
-    return _solve_piece(c, target, -1.0 + a * h, -1.0 + b * h, s[a], s[b], guess, curvature)
+    x0 = -1.0 + a * h
+    guess = _inverse_quadratic(x0, s[a], x0 + h, s[a + 1], -1.0 + n3 * h, s[n3], target)
+    return _solve_piece(c, target, x0, x0 + h, s[a], s[a + 1], guess, curvature)
 
 
 @_ijit
@@ -288,7 +296,8 @@ def _invert1(breaks, kind, order, anchor, ylo, yhi, coef, deg, samples, curvatur
         if i + 1 < npc and kind[i + 1] != ZERO:
             return breaks[i + 1]
         return math.nan
-    xi = _invert_sampled(coef[i, :deg[i]], samples[i], target, curvature[i])
+    s = samples[i]
+    xi = _solve_sampled(coef[i, :deg[i]], s, _bracket(s, target), target, curvature[i])
     return _from_unit(xi, kind[i], order[i], anchor[i], ylo[i], yhi[i])
 
 
@@ -300,26 +309,23 @@ def _invert1_many(breaks, kind, order, anchor, ylo, yhi, coef, deg, samples, cur
 
 
 @_ijit
-def _basis(xi: float, t, n: int):
-    """t[l] = T_l(xi) for l < n."""
+def _basis(xi: float, t):
+    """t[l] = T_l(xi) for every l."""
     t[0] = 1.0
-    if n > 1:
+    if t.shape[0] > 1:
         t[1] = xi
-    for k in range(2, n):
+    for k in range(2, t.shape[0]):
         t[k] = 2.0 * xi * t[k - 1] - t[k - 2]
 
 
 @_ijit
-def _rows(ct, tb, r, na: int, nb: int):
-    """r[k] = sum_l ct[l, k] tb[l] for k < na, l < nb: a 2D piece (stored transposed, beta
-    index first) cut to its degrees and reduced to a Chebyshev series in alpha.  The whole
-    contiguous block is passed with the counts (a sliced view would lose the layout that
-    lets the inner loop, over k, vectorise)."""
-    for k in range(na):
-        r[k] = 0.0
-    for l in range(nb):
+def _rows(ct, tb, r):
+    """r[k] = sum_l ct[l, k] tb[l]: a 2D piece (stored transposed, beta index first) reduced
+    to a Chebyshev series in alpha; the inner loop runs over k, so it vectorises."""
+    r[:] = 0.0
+    for l in range(ct.shape[0]):
         w = tb[l]
-        for k in range(na):
+        for k in range(ct.shape[1]):
             r[k] += ct[l, k] * w
 
 
@@ -337,17 +343,7 @@ def _row(rows, j: int):
 
 
 @_ijit
-def _alpha_series(ct, deg, g: int, xb: float, tb, r):
-    """Block g at beta (unit coordinate xb) as a Chebyshev series in alpha: a view of r."""
-    na = deg[g, 0]
-    nb = deg[g, 1]
-    _basis(xb, tb, nb)
-    _rows(ct[g], tb, r, na, nb)
-    return r[:na]
-
-
-@_ijit
-def _eval2(ax, rows, bx, ct, deg, a: float, b: float, tb, r) -> float:
+def _eval2(ax, rows, bx, ct, a: float, b: float, tb, r) -> float:
     if not (0.0 <= b <= bx[0][-1]):
         return math.nan
     j, xb = _unit2(bx, b)
@@ -357,7 +353,9 @@ def _eval2(ax, rows, bx, ct, deg, a: float, b: float, tb, r) -> float:
         return math.nan
     g = g0 + _locate(brk, a)
     xa = _to_unit(a, ax[1][g], ax[2][g], ax[3][g], ax[4][g], ax[5][g])
-    return _cheb(_alpha_series(ct, deg, g, xb, tb, r), xa)
+    _basis(xb, tb)
+    _rows(ct[g], tb, r)
+    return _cheb(r, xa)
 
 
 @_ijit
@@ -376,46 +374,45 @@ def _dot(c, t) -> float:
 
 
 @_ijit
-def _invert2(ax, rows, bx, ct, deg, samples, row_nb, e: float, b: float, tb, r, s) -> float:
+def _invert2(ax, rows, bx, ct, edges, e: float, b: float, tb, r) -> float:
     """alpha with e_table(alpha, b) = e; NaN outside the table.
 
-    ``samples[g, m]`` is the beta series (cut to the row's beta degree ``row_nb``) of e at
-    the m-th of evenly spaced xi in block g: the first ones find the alpha piece without
-    reducing every block of the row, all of them start Newton close to the root.
+    ``edges[g, 0]`` and ``edges[g, 1]`` are the beta series of e at the left and right end
+    of block g, so the alpha piece is found without reducing every block of the row.
     """
     if not (0.0 <= b <= bx[0][-1]):
         return math.nan
     j, xb = _unit2(bx, b)
     g0, n = _row(rows, j)
-    _basis(xb, tb, row_nb[j])
-    tj = tb[:row_nb[j]]
-    top = _dot(samples[g0, 0], tj)
+    _basis(xb, tb)
+    top = _dot(edges[g0, 0], tb)
     if e >= 1.0 or e >= top:  # e = 1 only without damping
         return 0.0
     lo = 0
     hi = n - 1
+    e_lo = top
     while lo < hi:  # the last piece whose left end has e >= target
         mid = (lo + hi + 1) // 2
-        if _dot(samples[g0 + mid, 0], tj) >= e:
+        v = _dot(edges[g0 + mid, 0], tb)
+        if v >= e:
             lo = mid
+            e_lo = v
         else:
             hi = mid - 1
     g = g0 + lo
-    ns = samples.shape[1]
-    for m in range(ns):
-        s[m] = _dot(samples[g, m], tj)
-    if e < s[ns - 1]:  # between two pieces that agree to ~1e-12, or below the table
+    e_hi = _dot(edges[g, 1], tb)
+    if e < e_hi:  # between two pieces that agree to ~1e-12, or below the table
         return ax[0][g + j + 1] if lo + 1 < n else math.nan
-    c = _alpha_series(ct, deg, g, xb, tb, r)
+    _rows(ct[g], tb, r)
     bound = 0.0  # |T_k''| <= k^2 (k^2 - 1) / 3 on [-1, 1]: a bound on the series' curvature
-    for k in range(2, c.shape[0]):
-        bound += abs(c[k]) * (k * k * (k * k - 1.0) / 3.0)
-    xi = _invert_sampled(c, s, e, bound)
+    for k in range(2, r.shape[0]):
+        bound += abs(r[k]) * (k * k * (k * k - 1.0) / 3.0)
+    xi = _solve_piece(r, e, -1.0, 1.0, e_lo, e_hi, math.nan, bound)
     return _from_unit(xi, ax[1][g], ax[2][g], ax[3][g], ax[4][g], ax[5][g])
 
 
 @_pjit
-def _many2(ax, rows, bx, ct, deg, samples, row_nb, x, b, out, chunks, invert: bool):
+def _many2(ax, rows, bx, ct, edges, x, b, out, chunks, invert: bool):
     """out = e(x, b) (or alpha(x, b) when ``invert``) over the arrays, in parallel chunks
     that allocate their scratch rows once."""
     n = x.shape[0]
@@ -423,12 +420,11 @@ def _many2(ax, rows, bx, ct, deg, samples, row_nb, x, b, out, chunks, invert: bo
     for ch in numba.prange(chunks):
         tb = np.empty(ct.shape[1])
         r = np.empty(ct.shape[2])
-        s = np.empty(samples.shape[1])
         for j in range(ch * size, min(n, (ch + 1) * size)):
             if invert:
-                out[j] = _invert2(ax, rows, bx, ct, deg, samples, row_nb, x[j], b[j], tb, r, s)
+                out[j] = _invert2(ax, rows, bx, ct, edges, x[j], b[j], tb, r)
             else:
-                out[j] = _eval2(ax, rows, bx, ct, deg, x[j], b[j], tb, r)
+                out[j] = _eval2(ax, rows, bx, ct, x[j], b[j], tb, r)
 
 
 # --------------------------------------------------------------------------------------------
@@ -486,12 +482,6 @@ def _degree(weights: np.ndarray) -> int:
     return max(1, int(np.count_nonzero(tail > _TRUNC_TOL)))
 
 
-def _degrees_2d(a: np.ndarray) -> tuple[int, int]:
-    """(alpha, beta) degrees of a block |c[k, l]|: half the budget to each direction."""
-    na = _degree(2.0 * a.sum(axis=1))
-    return na, _degree(2.0 * a[:na].sum(axis=0))
-
-
 @dataclass
 class Table:
     """Piecewise Chebyshev interpolant of e(alpha) (``beta_axis`` None) or e(alpha, beta).
@@ -515,8 +505,10 @@ class Table:
     build_seconds: float = math.nan
 
     def __post_init__(self) -> None:
-        """Derive what the compiled kernels use: each piece's coefficients cut to its
-        degrees, and the samples that start the inversion."""
+        """Derive what the compiled kernels use: (1D) each piece's degree, the coefficients
+        Clenshaw needs (the 2D blocks keep all theirs: cutting them to per-block degrees
+        cost more in lost vectorisation than it saved), and the samples that start the
+        inversion."""
         if self.beta_axis is None:  # dense samples that start the inversion
             self._deg = np.array([_degree(np.abs(c)) for c in self.coef], dtype=np.int64)
             cut = [c[:n] for c, n in zip(self.coef, self._deg)]
@@ -524,21 +516,13 @@ class Table:
             self._inv = np.array([npcheb.chebval(xi, c) for c in cut])
             # sum |c''_k| >= max |e''| on a piece (|T_k| <= 1): bounds a Newton step's residual
             self._curvature = np.array([np.sum(np.abs(npcheb.chebder(c, 2))) for c in cut])
-        else:  # beta series of e at evenly spaced alpha in every block
-            self._deg = np.array([_degrees_2d(np.abs(c)) for c in self.coef], dtype=np.int64)
-            na, nb = self.coef.shape[1:]
-            keep = ((np.arange(na)[None, :, None] < self._deg[:, :1, None])
-                    & (np.arange(nb)[None, None, :] < self._deg[:, 1:, None]))
-            cut = np.where(keep, self.coef, 0.0)
-            tx = npcheb.chebvander(np.linspace(-1.0, 1.0, _BLOCK_SAMPLES), na - 1)
-            self._inv = np.ascontiguousarray(np.einsum("mk,gkl->gml", tx, cut))
-            self._row_nb = np.array([self._deg[lo:hi, 1].max()
-                                     for lo, hi in zip(self.rows[:-1], self.rows[1:])])
+        else:  # beta series of e at both ends of every alpha piece
+            left = np.einsum("k,gkl->gl", (-1.0) ** np.arange(self.coef.shape[1]), self.coef)
+            self._inv = np.ascontiguousarray(np.stack([left, self.coef.sum(axis=1)], axis=1))
             self._ct = np.ascontiguousarray(self.coef.transpose(0, 2, 1))  # for _rows
 
     def _kernel_2d(self) -> tuple:
-        return (self.alpha_axis, self.rows, self.beta_axis, self._ct, self._deg, self._inv,
-                self._row_nb)
+        return self.alpha_axis, self.rows, self.beta_axis, self._ct, self._inv
 
     def e(self, alpha: np.ndarray, beta: np.ndarray | None = None) -> np.ndarray:
         """e at each alpha (and beta); NaN where the point lies outside the table."""
