@@ -29,7 +29,10 @@ hashes the source of every module that determines the values, so a code change r
 Evaluation and inversion are compiled (numba, parallel over the input array).  The inverse
 alpha(e) is a safeguarded Newton iteration on the (monotone decreasing) interpolant, started
 by inverse quadratic interpolation in a dense sample of each piece (1D), or from the ends of
-the piece (2D); it stops when the residual in e is below 1e-13.
+the piece (2D); it stops when the residual in e is below 1e-13, or when a Taylor bound puts
+the residual after the last step below 1e-11 (one evaluation fewer; the contract is 1e-9).
+A 1D piece is evaluated only up to its last coefficient that matters: the trailing ones it
+skips sum to at most 1e-13.
 """
 
 from __future__ import annotations
