@@ -25,9 +25,9 @@ def _as_checked_array(name: str, value: ArrayLike) -> np.ndarray:
         arr = np.asarray(value, dtype=object)
         flat = [check_finite_nonneg(name, v) for v in arr.ravel()]
         return np.array(flat, dtype=float).reshape(arr.shape)
-    a = raw.astype(float)
-    bad = ~(np.isfinite(a) & (a >= 0))
-    if bad.any():
+    a = raw.astype(float, copy=False)  # read only below: no copy of a float array
+    if a.size and not (a.min() >= 0.0 and a.max() < np.inf):  # NaN fails too; no temporaries
+        bad = ~(np.isfinite(a) & (a >= 0))
         first = np.asarray(value, dtype=object).ravel()[int(np.argmax(bad.ravel()))]
         check_finite_nonneg(name, first)  # raises with the usual message
     return a
@@ -134,9 +134,9 @@ def alpha_from_e(
     check_end(end)
     raw = np.asarray(e)
     if raw.dtype.kind in "biuf":
-        e_arr = raw.astype(float)
-        ok = (e_arr > 0.0) & (e_arr <= 1.0)
-        if not ok.all():
+        e_arr = raw.astype(float, copy=False)  # read only below
+        if e_arr.size and not (e_arr.min() > 0.0 and e_arr.max() <= 1.0):  # NaN fails too
+            ok = (e_arr > 0.0) & (e_arr <= 1.0)
             bad = np.asarray(e, dtype=object).ravel()[int(np.argmin(ok.ravel()))]
             raise ValueError(f"e must be a number in (0, 1]; got {bad!r}")
     else:

@@ -29,7 +29,10 @@ hashes the source of every module that determines the values, so a code change r
 Evaluation and inversion are compiled (numba, parallel over the input array).  The inverse
 alpha(e) is a safeguarded Newton iteration on the (monotone decreasing) interpolant, started
 by inverse quadratic interpolation in a dense sample of each piece (1D), or from the ends of
-the piece (2D); it stops when the residual in e is below 1e-13.
+the piece (2D); it stops when the residual in e is below 1e-13, or when a Taylor bound puts
+the residual after the last step below 1e-11 (one evaluation fewer; the contract is 1e-9).
+A 1D piece is evaluated only up to its last coefficient that matters: the trailing ones it
+skips sum to at most 1e-13.
 """
 
 from __future__ import annotations
@@ -75,7 +78,11 @@ _MAX_ROUNDS = 12  # refinement rounds (each halves the pieces that fail)
 _NODE_RTOL = 1e-14  # batch solver tolerance for the nodes (e to ~1e-14)
 _CRIT_WIDTH = 0.1  # width in alpha of the CRIT piece below alpha_c
 _INVERSE_SAMPLES = 256  # dense samples per piece that start the Newton inversion
+_TRUNC_TOL = 1e-13  # coefficients cut from a piece's end may change e by at most this
 _INVERSE_TOL = 1e-13  # |e_table(alpha) - e| at which the inversion stops (contract: 1e-9)
+#: bound on |e_table(alpha) - e| after a Newton step at which the inversion stops without
+#: evaluating again (a bound, not a residual; still 100 times below the 1e-9 contract)
+_STEP_TOL = 1e-11
 _FORMAT = 2  # bump when the file layout changes
 
 # "contract" lets a * b + c become one fused multiply-add (one rounding, half the latency of
@@ -93,10 +100,30 @@ _pjit = numba.njit(cache=True, fastmath={"contract"}, nogil=True, parallel=True)
 
 
 @_ijit
+def _root(x: float, order: float) -> float:
+    """x^(1/order): the orders met in practice (1, 2) without the slow general pow."""
+    if order == 1.0:
+        return x
+    if order == 2.0:
+        return math.sqrt(x)
+    return x ** (1.0 / order)
+
+
+@_ijit
+def _power(y: float, order: float) -> float:
+    """y^order, the inverse of :func:`_root`."""
+    if order == 1.0:
+        return y
+    if order == 2.0:
+        return y * y
+    return y ** order
+
+
+@_ijit
 def _to_unit(x: float, kind: int, order: float, anchor: float, ylo: float, yhi: float) -> float:
     """Map x (alpha or beta) in a piece to xi in [-1, 1] through the piece's variable y."""
     if kind == POWER:
-        y = x if order == 1.0 else x ** (1.0 / order)
+        y = _root(x, order)
     elif kind == LOG:
         y = math.log(x)
     elif kind == CRIT:  # y grows with x, as in every piece
@@ -112,7 +139,7 @@ def _from_unit(xi: float, kind: int, order: float, anchor: float, ylo: float, yh
     """Inverse of :func:`_to_unit` (x from xi)."""
     y = 0.5 * (ylo + yhi) + 0.5 * (yhi - ylo) * xi
     if kind == POWER:
-        return y if order == 1.0 else max(y, 0.0) ** order
+        return _power(max(y, 0.0), order)
     if kind == LOG:
         return math.exp(y)
     if kind == CRIT:
@@ -161,18 +188,18 @@ def _locate(breaks, x: float) -> int:
 
 
 @_ijit
-def _eval1(breaks, kind, order, anchor, ylo, yhi, coef, x: float) -> float:
+def _eval1(breaks, kind, order, anchor, ylo, yhi, coef, deg, x: float) -> float:
     if not (0.0 <= x <= breaks[-1]):
         return math.nan
     i = _locate(breaks, x)
-    return _cheb(coef[i], _to_unit(x, kind[i], order[i], anchor[i], ylo[i], yhi[i]))
+    return _cheb(coef[i, :deg[i]], _to_unit(x, kind[i], order[i], anchor[i], ylo[i], yhi[i]))
 
 
 @_pjit
-def _eval1_many(breaks, kind, order, anchor, ylo, yhi, coef, x, out):
+def _eval1_many(breaks, kind, order, anchor, ylo, yhi, coef, deg, x, out):
     """out = e(x) for every element (NaN outside the table)."""
     for j in numba.prange(x.shape[0]):
-        out[j] = _eval1(breaks, kind, order, anchor, ylo, yhi, coef, x[j])
+        out[j] = _eval1(breaks, kind, order, anchor, ylo, yhi, coef, deg, x[j])
 
 
 @_ijit
@@ -183,7 +210,7 @@ def _solve_piece(c, target: float, xa: float, xb: float, ea: float, eb: float,
     Newton's method from the guess ``xi`` (NaN: the linear interpolant), kept inside a
     shrinking bracket (bisection when a step leaves it); stops when the residual in e is
     below _INVERSE_TOL, or after a step d whose residual is bounded by curvature d^2 / 2
-    below it (``curvature`` >= max |second derivative| on the piece; Taylor).
+    below _STEP_TOL (``curvature`` >= max |second derivative| on the piece; Taylor).
     """
     if ea <= eb:
         return xa
@@ -201,7 +228,7 @@ def _solve_piece(c, target: float, xa: float, xb: float, ea: float, eb: float,
         new = xi - f / df if df < 0.0 else math.nan
         if not (xa < new < xb):
             new = 0.5 * (xa + xb)
-        elif 0.5 * curvature * (new - xi) ** 2 <= _INVERSE_TOL:
+        elif 0.5 * curvature * (new - xi) ** 2 <= _STEP_TOL:
             return new
         if new == xi or xb - xa <= 4e-16:
             break
@@ -221,18 +248,34 @@ def _inverse_quadratic(x0: float, e0: float, x1: float, e1: float, x2: float, e2
 
 
 @_ijit
-def _quadratic_guess(s, a: int, target: float) -> float:
-    """Start for the inversion from samples s (evenly spaced in xi): the inverse parabola
-    through samples a, a+1 and a neighbour."""
-    ns = s.shape[0]
-    c = a + 2 if a + 2 < ns else a - 1
-    h = 2.0 / (ns - 1)
-    return _inverse_quadratic(-1.0 + a * h, s[a], -1.0 + (a + 1) * h, s[a + 1], -1.0 + c * h,
-                              s[c], target)
+def _bracket(s, target: float) -> int:
+    """a with s[a] >= target > s[a + 1] (s decreasing, s[0] >= target >= s[-1])."""
+    a = 0
+    b = s.shape[0] - 1
+    while b - a > 1:
+        mid = (a + b) // 2
+        if s[mid] >= target:
+            a = mid
+        else:
+            b = mid
+    return a
 
 
 @_ijit
-def _invert1(breaks, kind, order, anchor, ylo, yhi, coef, samples, curvature,
+def _solve_sampled(c, s, a: int, target: float, curvature: float) -> float:
+    """xi in [-1, 1] with sum c_k T_k(xi) = target, given the e samples ``s`` at evenly
+    spaced xi with s[a] >= target >= s[a + 1]: Newton from the inverse parabola through
+    samples a, a + 1 and a neighbour (close enough that one step usually suffices)."""
+    ns = s.shape[0]
+    h = 2.0 / (ns - 1)
+    n3 = a + 2 if a + 2 < ns else a - 1
+    x0 = -1.0 + a * h
+    guess = _inverse_quadratic(x0, s[a], x0 + h, s[a + 1], -1.0 + n3 * h, s[n3], target)
+    return _solve_piece(c, target, x0, x0 + h, s[a], s[a + 1], guess, curvature)
+
+
+@_ijit
+def _invert1(breaks, kind, order, anchor, ylo, yhi, coef, deg, samples, curvature,
              target: float) -> float:
     """alpha with e_table(alpha) = target; NaN when the target is below the table's e range.
 
@@ -252,28 +295,20 @@ def _invert1(breaks, kind, order, anchor, ylo, yhi, coef, samples, curvature,
         else:
             hi = mid - 1
     i = lo
-    s = samples[i]
-    if target < s[ns - 1]:  # between pieces (they agree to ~1e-12) or below the table
+    if target < samples[i, ns - 1]:  # between pieces (they agree to ~1e-12) or below the table
         if i + 1 < npc and kind[i + 1] != ZERO:
             return breaks[i + 1]
         return math.nan
-    a = 0
-    b = ns - 1
-    while b - a > 1:
-        mid = (a + b) // 2
-        if s[mid] >= target:
-            a = mid
-        else:
-            b = mid
-    xi = _solve_piece(coef[i], target, -1.0 + 2.0 * a / (ns - 1), -1.0 + 2.0 * b / (ns - 1),
-                      s[a], s[b], _quadratic_guess(s, a, target), curvature[i])
+    s = samples[i]
+    xi = _solve_sampled(coef[i, :deg[i]], s, _bracket(s, target), target, curvature[i])
     return _from_unit(xi, kind[i], order[i], anchor[i], ylo[i], yhi[i])
 
 
 @_pjit
-def _invert1_many(breaks, kind, order, anchor, ylo, yhi, coef, samples, curvature, e, out):
+def _invert1_many(breaks, kind, order, anchor, ylo, yhi, coef, deg, samples, curvature, e, out):
     for j in numba.prange(e.shape[0]):
-        out[j] = _invert1(breaks, kind, order, anchor, ylo, yhi, coef, samples, curvature, e[j])
+        out[j] = _invert1(breaks, kind, order, anchor, ylo, yhi, coef, deg, samples, curvature,
+                          e[j])
 
 
 @_ijit
@@ -443,6 +478,13 @@ def _axis_pieces(axis: tuple[np.ndarray, ...]) -> list[Piece]:
             for k, o, a, lo, hi in zip(*axis[1:])]
 
 
+def _degree(weights: np.ndarray) -> int:
+    """Terms to keep of a Chebyshev series whose k-th term is at most weights[k] in size:
+    the trailing ones sum to at most _TRUNC_TOL (|T_k| <= 1), so Clenshaw skips them."""
+    tail = np.cumsum(weights[::-1])[::-1]  # tail[k] = sum of weights[k:]
+    return max(1, int(np.count_nonzero(tail > _TRUNC_TOL)))
+
+
 @dataclass
 class Table:
     """Piecewise Chebyshev interpolant of e(alpha) (``beta_axis`` None) or e(alpha, beta).
@@ -466,26 +508,34 @@ class Table:
     build_seconds: float = math.nan
 
     def __post_init__(self) -> None:
+        """Derive what the compiled kernels use: (1D) each piece's degree, the coefficients
+        Clenshaw needs (the 2D blocks keep all theirs: cutting them to per-block degrees
+        cost more in lost vectorisation than it saved), and the samples that start the
+        inversion."""
         if self.beta_axis is None:  # dense samples that start the inversion
+            self._deg = np.array([_degree(np.abs(c)) for c in self.coef], dtype=np.int64)
+            cut = [c[:n] for c, n in zip(self.coef, self._deg)]
             xi = np.linspace(-1.0, 1.0, _INVERSE_SAMPLES)
-            self._inv = np.array([npcheb.chebval(xi, c) for c in self.coef])
+            self._inv = np.array([npcheb.chebval(xi, c) for c in cut])
             # sum |c''_k| >= max |e''| on a piece (|T_k| <= 1): bounds a Newton step's residual
-            self._curvature = np.array([np.sum(np.abs(npcheb.chebder(c, 2))) for c in self.coef])
+            self._curvature = np.array([np.sum(np.abs(npcheb.chebder(c, 2))) for c in cut])
         else:  # beta series of e at both ends of every alpha piece
             left = np.einsum("k,gkl->gl", (-1.0) ** np.arange(self.coef.shape[1]), self.coef)
             self._inv = np.ascontiguousarray(np.stack([left, self.coef.sum(axis=1)], axis=1))
             self._ct = np.ascontiguousarray(self.coef.transpose(0, 2, 1))  # for _rows
+
+    def _kernel_2d(self) -> tuple:
+        return self.alpha_axis, self.rows, self.beta_axis, self._ct, self._inv
 
     def e(self, alpha: np.ndarray, beta: np.ndarray | None = None) -> np.ndarray:
         """e at each alpha (and beta); NaN where the point lies outside the table."""
         a = np.ascontiguousarray(alpha, dtype=float).ravel()
         out = np.empty(a.shape)
         if self.beta_axis is None:
-            _eval1_many(*self.alpha_axis, self.coef, a, out)
+            _eval1_many(*self.alpha_axis, self.coef, self._deg, a, out)
         else:
             b = np.ascontiguousarray(beta, dtype=float).ravel()
-            _many2(self.alpha_axis, self.rows, self.beta_axis, self._ct, self._inv, a, b, out,
-                   _chunks(), False)
+            _many2(*self._kernel_2d(), a, b, out, _chunks(), False)
         return out.reshape(np.shape(alpha))
 
     def alpha(self, e: np.ndarray, beta: np.ndarray | None = None) -> np.ndarray:
@@ -493,11 +543,11 @@ class Table:
         t = np.ascontiguousarray(e, dtype=float).ravel()
         out = np.empty(t.shape)
         if self.beta_axis is None:
-            _invert1_many(*self.alpha_axis, self.coef, self._inv, self._curvature, t, out)
+            _invert1_many(*self.alpha_axis, self.coef, self._deg, self._inv, self._curvature, t,
+                          out)
         else:
             b = np.ascontiguousarray(beta, dtype=float).ravel()
-            _many2(self.alpha_axis, self.rows, self.beta_axis, self._ct, self._inv, t, b, out,
-                   _chunks(), True)
+            _many2(*self._kernel_2d(), t, b, out, _chunks(), True)
         return out.reshape(np.shape(e))
 
     def to_arrays(self) -> dict[str, np.ndarray]:
