@@ -203,3 +203,15 @@ def test_alpha_from_e_unreachable_in_an_array_names_the_range():
         vc.alpha_from_e("Hunt", [0.5, 1e-6, 0.9])
     with pytest.raises(ValueError, match=r"e must be a number in \(0, 1\]"):
         vc.alpha_from_e("KK", np.array([0.5, 1.5]))
+
+
+@pytest.mark.parametrize("end", ENDS)
+def test_without_dissipated_work_e_and_tc_stay_exact(end):
+    """``dissipated=False`` (what ``restitution`` asks) integrates no W: NaN there, and e,
+    t_c, separation as accurate as with it."""
+    lite = solve_batch(_lp("Hunt"), ALPHAS, end, dissipated=False)
+    full = solve_batch(_lp("Hunt"), ALPHAS, end)
+    assert np.all(np.isnan(lite.dissipated)) and not np.any(np.isnan(full.dissipated))
+    assert np.array_equal(lite.separated, full.separated)
+    assert np.max(np.abs(lite.e - [hunt_e(a) for a in ALPHAS])) <= 1e-9
+    assert np.max(np.abs(lite.tc - full.tc)) <= 1e-8

@@ -44,7 +44,7 @@ def _law_grid(model: str, alpha: ArrayLike, beta: ArrayLike | None, p: float | N
 
 
 def _e_of(lp: LawParams, alpha: np.ndarray, beta: np.ndarray | None, end: str) -> np.ndarray:
-    return solve_batch(lp, alpha, end, beta=beta).e
+    return solve_batch(lp, alpha, end, beta=beta, dissipated=False).e
 
 
 def restitution(
