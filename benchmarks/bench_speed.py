@@ -5,7 +5,8 @@
 For every law, n random (alpha, beta) in [0, 10] (beta only for Jian; power with p = 0.75),
 zero-force end:
 
-- throughput of ``viscontact.restitution`` and of the batch solver itself
+- throughput of ``viscontact.restitution(..., exact=True)`` (the solver, not the tables of
+  ``benchmarks/bench_tables.py``) and of the batch solver itself
   (``solve_batch``: e, t_c, residual, dissipated work, separated: what
   ``collide(..., history=False)`` returns), after one warm-up call (compilation is cached);
 - the same for the baseline a DEM user would write (scipy ``solve_ivp``, DOP853, rtol 1e-10,
@@ -101,7 +102,7 @@ def main() -> None:
     t0 = time.perf_counter()
     for law in args.laws:  # compile (or load from the cache) every specialisation once
         lp, a, b, kw = law_inputs(law, 8, rng)
-        vc.restitution(law, a, **kw)
+        vc.restitution(law, a, exact=True, **kw)
     print(f"numba threads: {threads}; first calls (compile or cache load): "
           f"{time.perf_counter() - t0:.1f} s; batch rtol {BATCH_RTOL:g}; n = {args.n}")
 
@@ -112,7 +113,7 @@ def main() -> None:
     worst_rate, worst_ratio, worst_err = np.inf, np.inf, 0.0
     for law in args.laws:
         lp, a, b, kw = law_inputs(law, args.n, rng)
-        t_rest = best_time(lambda: vc.restitution(law, a, **kw))
+        t_rest = best_time(lambda: vc.restitution(law, a, exact=True, **kw))
         t_batch = best_time(lambda: solve_batch(lp, a, beta=b))
         small = args.n // 10
         t_small = best_time(lambda: solve_batch(lp, a[:small], beta=None if b is None else b[:small]))
