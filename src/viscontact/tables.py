@@ -778,7 +778,7 @@ def _build(law: str, end: str) -> Table:
     t0 = time.perf_counter()
     rng = np.random.default_rng(20190735)  # deterministic held-out points
     with tqdm(desc=f"viscontact: {law} table ({end} end)", unit="solve", file=sys.stderr,
-              delay=1.0, leave=False) as bar:
+              delay=1.0, leave=False, disable=None) as bar:  # None: no bar off a terminal
         exact = _Solver(law, end, bar)
         table, error = (_build_2d if law == "Jian" else _build_1d)(law, end, exact, rng)
     table.max_error, table.nodes = error, exact.count
