@@ -146,7 +146,8 @@ def calibrate_physical(
     check_end(end)
     lp = resolve(model, beta=beta, p=p)
     T = time_scale(m_eff, k_hertz, v)
-    alpha = float(alpha_from_e(model, e, beta=beta, p=p, end=end))
+    # one value: the exact solver answers in milliseconds and needs no table built first
+    alpha = float(alpha_from_e(model, e, beta=beta, p=p, end=end, exact=True))
     c = damping_coefficient(model, alpha, m_eff=m_eff, k_hertz=k_hertz, v=v, p=p)
     law = lookup(model)
     return PhysicalCalibration(

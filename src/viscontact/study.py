@@ -107,10 +107,11 @@ def run_study(step: Callable[[str], None] | None = None, *, n_speeds: int = 24) 
     grid = np.array(ALPHA_GRID)
 
     step(next(names))
-    table1 = {m: np.asarray(restitution(m, grid)) for m in TABLE1_MODELS}
+    # A few hundred values: solved directly, so a first run builds no interpolation tables.
+    table1 = {m: np.asarray(restitution(m, grid, exact=True)) for m in TABLE1_MODELS}
 
     step(next(names))
-    table2 = {b: np.asarray(restitution("Jian", grid, beta=b)) for b in BETA_GRID}
+    table2 = {b: np.asarray(restitution("Jian", grid, beta=b, exact=True)) for b in BETA_GRID}
 
     step(next(names))
     reference = [collide(m, ALPHA_REF, **_beta_kw(m, BETA_REF)) for m in STUDY_MODELS]
