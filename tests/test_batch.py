@@ -215,3 +215,11 @@ def test_without_dissipated_work_e_and_tc_stay_exact(end):
     assert np.array_equal(lite.separated, full.separated)
     assert np.max(np.abs(lite.e - [hunt_e(a) for a in ALPHAS])) <= 1e-9
     assert np.max(np.abs(lite.tc - full.tc)) <= 1e-8
+
+
+def test_generated_step_matches_its_generator():
+    """_dop853_lanes.py is generated; an edit by hand or a changed tableau must show."""
+    from viscontact.solvers import _codegen
+
+    assert (_codegen.TARGET.read_text() == _codegen.source()), (
+        "run python3 -m viscontact.solvers._codegen")

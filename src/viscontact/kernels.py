@@ -59,12 +59,13 @@ def _expm1_neg(y: float) -> float:
 def relaxation(t: float, beta: float) -> float:
     """g(t) = 1 - exp(-t/beta), the Jian switch-on factor; 1 when beta = 0 (KK).
 
-    Written with selects instead of branches so that it vectorises across lanes.
+    A branch, not a select: scalar callers (the end-of-contact events) skip the series when
+    beta = 0, and loops over lanes still vectorise (the compiler turns it into a select).
     """
-    y = t / beta
-    y = y if y < _RELAXED else _RELAXED  # also t/0 = inf; NaN (0/0) is replaced below
-    g = -_expm1_neg(y)
-    return g if beta > 0.0 else 1.0
+    if beta > 0.0:
+        y = t * (1.0 / beta)  # 1/beta: one division per lane for all of a step's stages
+        return -_expm1_neg(y if y < _RELAXED else _RELAXED)
+    return 1.0
 
 
 #: :func:`ipow` handles exponents below this in straight-line code
@@ -185,4 +186,4 @@ def end_force_event(
         return spring_s(abs(s), m, q) + damp
     if damp >= 0.0:
         return s
-    return s - (-damp) ** (1.0 / k)
+    return s - (math.sqrt(-damp) if k == 2.0 else (-damp) ** (1.0 / k))  # sqrt: KK, Jian

@@ -47,20 +47,20 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 from numpy.typing import ArrayLike
-# The published Dormand-Prince 8(5,3) tableau, as shipped by scipy (not copied here).
-from scipy.integrate._ivp import dop853_coefficients as _dop853
 
-from ..kernels import (INT_POW_LIMIT, end_force_event, force_s, force_s_int, rhs_sigma,
-                       rhs_sigma_int)
+from ..kernels import INT_POW_LIMIT, end_force_event, rhs_sigma
 from ..laws import LawParams
+from . import _dop853_lanes as L
+from ._dop853_lanes import SLOTS as _SLOTS
+from ._dop853_lanes import dop853_lanes
 from .base import END_CRITERIA, T_MAX, Contact
 
 __all__ = ["BatchResult", "solve_batch", "solve_batch_one", "BATCH_RTOL"]
 
 #: Default relative tolerance of the batch solver: meets |e - exact| <= 1e-9 (contract 1e-8).
 BATCH_RTOL: float = 1e-9
-#: Collisions advanced in lockstep by one thread (slots of structure-of-arrays state).
-_SLOTS: int = 128
+#: Lanes stepped are padded to a multiple of this (above any vector width x interleave)
+_VECTOR_PAD: int = 16
 #: Fewest collisions per parallel work item (threads take chunks; slots refill within one).
 _CHUNK: int = 2048
 #: First step in sigma (the solution is a power series in sigma at the start).
@@ -70,11 +70,6 @@ _H0: float = 0.1
 #: takes ~3e5; a few seconds at this limit).
 _MAX_STEPS: int = 5_000_000
 
-_NS = _dop853.N_STAGES  # 12 stages; the 13th evaluation is the first of the next step
-_A = np.ascontiguousarray(_dop853.A[:_NS, :_NS])
-_B = np.ascontiguousarray(_dop853.B)
-_E3 = np.ascontiguousarray(_dop853.E3)
-_E5 = np.ascontiguousarray(_dop853.E5)
 # safety 0.8 (scipy: 0.9): a quarter fewer rejected steps, a few per cent fewer steps in all
 _SAFETY, _MIN_FACTOR, _MAX_FACTOR = 0.8, 0.2, 10.0
 
@@ -99,43 +94,55 @@ _jit = numba.njit(cache=True, nogil=True, error_model="numpy")
 
 
 @_jit
-def _event(s, v, t, alpha, beta, p, m, q, force_end, t_max, part=-1):
-    """min of the end events, each positive during the contact (see module docstring);
-    only event ``part`` (0: overlap, 1: time limit, 2: zero force) when it is >= 0."""
-    if part == 0:
-        return s
-    if part == 1:
-        return t_max - t
-    if part == 2:
-        return end_force_event(s, v, t, alpha, beta, p, m, q)
-    g = min(s, t_max - t)
+def _event_min(S, y_row, l, alpha, beta, p, m, q, force_end, t_max):
+    """The end events at lane l of the state at row y_row of S, each positive during the
+    contact (see module docstring): (g, part, g_force) with g the smallest, part which one
+    (0: overlap s, 1: time limit T_MAX - t, 2: zero force) and g_force the zero-force event
+    (+inf when it is off)."""
+    s, v, t = S[y_row + l], S[y_row + _SLOTS + l], S[y_row + 2 * _SLOTS + l]
+    g, part, g_force = s, 0, math.inf
+    if t_max - t < g:
+        g, part = t_max - t, 1
     if force_end and alpha > 0.0:  # undamped: F = 0 only where x = 0
-        g = min(g, end_force_event(s, v, t, alpha, beta, p, m, q))
-    return g
+        g_force = end_force_event(s, v, t, alpha, beta, p, m, q)
+        if g_force < g:
+            g, part = g_force, 2
+    return g, part, g_force
 
 
 @_jit
-def _event_part(s, v, t, alpha, beta, p, m, q, force_end, t_max):
-    """Which event (the ``part`` of :func:`_event`) is the smallest."""
-    part = 0 if s <= t_max - t else 1
-    if force_end and alpha > 0.0:
-        if end_force_event(s, v, t, alpha, beta, p, m, q) < min(s, t_max - t):
-            part = 2
-    return part
+def _event_part(S, y_row, l, part, g_force, t_max):
+    """Event ``part`` (as :func:`_event_min`) at lane l of the state at row y_row."""
+    if part == 0:
+        return S[y_row + l]
+    if part == 1:
+        return t_max - S[y_row + 2 * _SLOTS + l]
+    return g_force
 
 
 @_jit
-def _event_slope(Y, K, row, l, alpha, beta, p, m, q, force_end, t_max, h, part=-1):
-    """d(event)/dsigma at slot l of Y by a central difference along the solution, whose
-    direction K[row] (the right-hand side at Y: K[_NS] at a step's end, K[0] at its start)
-    every step computes anyway."""
+def _event_slope(S, y_row, f_row, l, part, g, alpha, beta, p, m, q, h, central):
+    """d(event ``part``)/dsigma at lane l of the state at row y_row of S, where the event is g.
+
+    Exact for the overlap and time-limit events (ds/dsigma, -dt/dsigma: the right-hand side
+    at row f_row, FS1 at a step's end, FS0 at its start, which every step computes anyway);
+    for the zero-force event a difference along the solution: central (error O(d^2), for
+    the Hermite guess), or one-sided from g (one evaluation; error O(d), which only slows
+    the last Newton correction by a factor ~1e-6, far below the tolerance)."""
+    if part == 0:
+        return S[f_row + l]
+    if part == 1:
+        return -S[f_row + 2 * _SLOTS + l]
     d = 1e-6 * h
-    f = K[row, :, l]
-    up = _event(Y[0, l] + d * f[0], Y[1, l] + d * f[1], Y[2, l] + d * f[2], alpha, beta, p, m,
-                q, force_end, t_max, part)
-    dn = _event(Y[0, l] - d * f[0], Y[1, l] - d * f[1], Y[2, l] - d * f[2], alpha, beta, p, m,
-                q, force_end, t_max, part)
-    return (up - dn) / (2.0 * d) if d > 0.0 else 0.0
+    if not d > 0.0:
+        return 0.0
+    y0, y1, y2 = S[y_row + l], S[y_row + _SLOTS + l], S[y_row + 2 * _SLOTS + l]
+    f0, f1, f2 = S[f_row + l], S[f_row + _SLOTS + l], S[f_row + 2 * _SLOTS + l]
+    up = end_force_event(y0 + d * f0, y1 + d * f1, y2 + d * f2, alpha, beta, p, m, q)
+    if not central:
+        return (up - g) / d
+    dn = end_force_event(y0 - d * f0, y1 - d * f1, y2 - d * f2, alpha, beta, p, m, q)
+    return (up - dn) / (2.0 * d)
 
 
 @_jit
@@ -175,31 +182,38 @@ _inline = numba.njit(cache=True, nogil=True, error_model="numpy", inline="always
 
 
 @_inline
-def _rhs_slots(Y, K, i, n, a, b, p, m, n_damp, nv, relax):
-    """K[i] = right-hand side at Y for slots 0..n-1 (straight-line over slots); inlined, so
-    the constants of :func:`_make_solver` fold into it."""
-    for l in range(n):
-        bl = b[l] if relax else 0.0
-        if n_damp >= 0:
-            r = rhs_sigma_int(Y[0, l], Y[1, l], Y[2, l], a[l], bl, n_damp, m)
-        else:
-            r = rhs_sigma(Y[0, l], Y[1, l], Y[2, l], a[l], bl, p, m)
-        K[i, 0, l] = r[0]
-        K[i, 1, l] = r[1]
-        K[i, 2, l] = r[2]
-        if nv == 4:
-            K[i, 3, l] = r[3]
-
-
-@_inline
-def _force_scaled_slots(Y, out, n, a, b, p, q, m, n_damp, k_spring, k_damp, relax):
-    """out = F / s^q at Y for slots 0..n-1 (only its sign is used: end-of-contact test)."""
-    for l in range(n):
-        bl = b[l] if relax else 0.0
-        if n_damp >= 0:
-            out[l] = force_s_int(Y[0, l], Y[1, l], Y[2, l], a[l], bl, k_spring, k_damp)
-        else:
-            out[l] = force_s(Y[0, l], Y[1, l], Y[2, l], a[l], bl, p, m, q)
+def _accept_lanes(S, lo, hi, nv, t_max):
+    """After :func:`dop853_lanes`: accept or reject the step in lanes lo..hi-1 and choose the
+    next step (scipy's DOP853 control), all as selects so that the loop vectorises.  A lane
+    whose accepted step crosses an end event, or that is locating one, is marked SPECIAL and
+    left as it is for the one-by-one event handling.  Returns the number of such lanes plus
+    those past the step limit."""
+    pending = 0
+    for l in range(lo, hi):
+        en = S[L.ERR + l]
+        ok = en <= 1.0  # False for NaN
+        cross = ((S[L.S1 + l] < 0.0) | (S[L.T1 + l] > t_max)
+                 | ((S[L.ACTIVE_FORCE + l] != 0.0) & (S[L.FEND + l] < 0.0)))
+        special = (S[L.LOCATING + l] != 0.0) | (ok & cross)
+        # err^(-1/8) by three square roots (vectorises; no pow)
+        grow = _SAFETY / math.sqrt(math.sqrt(math.sqrt(en))) if en > 0.0 else _MAX_FACTOR
+        grow = min(_MAX_FACTOR, grow)
+        rejected = S[L.REJECTED + l] != 0.0
+        grow = min(1.0, grow) if rejected else grow
+        shrink = max(_MIN_FACTOR, grow) if en == en else _MIN_FACTOR
+        take = ok & ~special
+        for c in range(nv):
+            r = c * _SLOTS + l
+            S[L.S0 + r] = S[L.S1 + r] if take else S[L.S0 + r]
+            S[L.FS0 + r] = S[L.FS1 + r] if take else S[L.FS0 + r]
+        h = S[L.H + l]
+        S[L.SIG + l] = S[L.SIG + l] + h if take else S[L.SIG + l]
+        S[L.H + l] = h if special else h * (grow if ok else shrink)
+        S[L.REJECTED + l] = S[L.REJECTED + l] if special else (0.0 if ok else 1.0)
+        S[L.SPECIAL + l] = 1.0 if special else 0.0
+        S[L.NSTEPS + l] += 1.0
+        pending += 1 if special | (S[L.NSTEPS + l] > _MAX_STEPS) else 0
+    return pending
 
 
 def _make_solver(m: int, n_damp: int, nv: int, relax: bool):
@@ -212,226 +226,138 @@ def _make_solver(m: int, n_damp: int, nv: int, relax: bool):
     k_spring = (3 * m) // 2 - min(n_damp, (3 * m) // 2)  # F / s^q exponents (integer path)
     k_damp = n_damp - min(n_damp, (3 * m) // 2)
 
-    # only numbers in the closure: numba caches it under their hash
+    # only numbers in the closures: numba caches them under their hash
+    # contract: a * b + c as one fused multiply-add (one rounding instead of two; the
+    # stage sums become chains of them), no other fast-math licence
+    @numba.njit(cache=True, nogil=True, error_model="numpy", fastmath={"contract"})
+    def step(S, n, rtol, atol, p, q, t_max):
+        """Steps in every live lane until one needs the one-by-one handling of
+        :func:`_accept_lanes` (an end of contact found or being located, or the step limit):
+        the vectorised part of the solver.
+
+        A function of its own because LLVM (as numba 0.6x drives it) vectorises the loops
+        over lanes only when they are nested in another loop (here the loop over steps) and
+        not at all once inlined into the event handling below: measured 8-12x faster."""
+        # every live lane takes the vector loop's body, never its scalar remainder (whose
+        # fused multiply-adds may differ by an ulp): a result must not depend on how many
+        # collisions share its block; lanes past n hold stale states, harmless to step
+        n_pad = min(-(-n // _VECTOR_PAD) * _VECTOR_PAD, _SLOTS)
+        while True:
+            dop853_lanes(S, 0, n_pad, rtol, atol, p, q, m, n_damp, k_spring, k_damp, nv, relax)
+            if _accept_lanes(S, 0, n, nv, t_max):
+                return
+
     @numba.njit(cache=True, nogil=True, error_model="numpy")
     def solve_range(alpha, beta, lo, hi, p, q, force_end, rtol, atol, t_max,
                     e_out, tc_out, res_out, w_out, sep_out, steps_out):
-        """Solve collisions lo..hi-1 in up to _SLOTS slots advanced in lockstep.
+        """Solve collisions lo..hi-1 in up to SLOTS lanes advanced in lockstep.
 
-        Slots 0..n-1 are live; a finished slot takes the next collision, or, when none is left,
-        the state of the last live slot (so the live slots stay contiguous and every loop over
-        them is a plain vectorisable loop).
+        The lanes' state is one flat array (field k of lane l at S[k * SLOTS + l], fields in
+        :mod:`._dop853_lanes`): one base pointer at constant distances lets the compiler
+        vectorise the loops over lanes without run-time alias checks.  Lanes 0..n-1 are
+        live; a finished lane takes the next collision, or, when none is left, the state of
+        the last live lane (so the live lanes stay contiguous).
         """
         C = min(_SLOTS, hi - lo)
         ext = 1e-2 * math.sqrt(rtol)  # relative Newton step that ends the event search
-        Y0 = np.zeros((nv, C))  # state at the start of the current step
-        Y1 = np.zeros((nv, C))  # trial state at its end
-        YS = np.zeros((nv, C))  # stage state
-        E = np.zeros((nv, C))  # error estimate
-        K = np.zeros((_NS + 1, nv, C))
-        h, sig, a, b = np.zeros(C), np.zeros(C), np.zeros(C), np.zeros(C)
-        err, fac, fend = np.zeros(C), np.zeros(C), np.zeros(C)
-        active_force = np.zeros(C, dtype=np.bool_)  # zero-force event on (force end, alpha > 0)
-        rejected = np.zeros(C, dtype=np.bool_)
-        locating = np.zeros(C, dtype=np.bool_)
-        special = np.zeros(C, dtype=np.bool_)  # crossing found or locating: handled one by one
+        S = np.zeros(L.N_FIELDS * _SLOTS)
+        # event search (one by one, not vectorised): bracket [h_lo, h_hi] of the step length
         h_lo, h_hi, g_lo, g_hi = np.zeros(C), np.zeros(C), np.zeros(C), np.zeros(C)
         side = np.zeros(C, dtype=np.int64)  # Illinois: which end of the bracket moved last
         idx = np.zeros(C, dtype=np.int64)
-        nsteps = np.zeros(C, dtype=np.int64)
 
         nxt = lo
         n = C
         for l in range(n):
-            _load(l, nxt, alpha, beta, a, b, Y0, K, h, sig, rejected, locating, nsteps, idx,
-                  active_force, force_end, p, m, nv)
+            _load(S, l, nxt, alpha, beta, idx, force_end, p, m, nv)
             nxt += 1
 
         while n > 0:
-            # --- one Runge-Kutta step in every live slot (plain loops over slots) ---
-            for i in range(1, _NS + 1):
-                last = i == _NS  # the solution; its right-hand side is the next step's first stage
-                Yt = Y1 if last else YS
-                u0, u1, u2, u3 = Yt[0], Yt[1], Yt[2], Yt[nv - 1]
-                for j in range(i):
-                    w = _B[j] if last else _A[i, j]
-                    k0, k1, k2, k3 = K[j, 0], K[j, 1], K[j, 2], K[j, nv - 1]
-                    if j == 0:
-                        for l in range(n):
-                            u0[l] = w * k0[l]
-                            u1[l] = w * k1[l]
-                            u2[l] = w * k2[l]
-                            if nv == 4:
-                                u3[l] = w * k3[l]
-                    else:
-                        for l in range(n):
-                            u0[l] += w * k0[l]
-                            u1[l] += w * k1[l]
-                            u2[l] += w * k2[l]
-                            if nv == 4:
-                                u3[l] += w * k3[l]
-                y0, y1, y2, y3 = Y0[0], Y0[1], Y0[2], Y0[nv - 1]
-                for l in range(n):
-                    hl = h[l]
-                    u0[l] = y0[l] + hl * u0[l]
-                    u1[l] = y1[l] + hl * u1[l]
-                    u2[l] = y2[l] + hl * u2[l]
-                    if nv == 4:
-                        u3[l] = y3[l] + hl * u3[l]
-                _rhs_slots(Yt, K, i, n, a, b, p, m, n_damp, nv, relax)
-            # --- error estimate of the 8(5,3) pair (as scipy's DOP853): differences in YS
-            # (5th order) and E (3rd order), then the norms over the components ---
-            for j in range(_NS + 1):
-                c5 = _E5[j]
-                c3 = _E3[j]
-                k0, k1, k2, k3 = K[j, 0], K[j, 1], K[j, 2], K[j, nv - 1]
-                if j == 0:
-                    for l in range(n):
-                        YS[0, l] = c5 * k0[l]
-                        YS[1, l] = c5 * k1[l]
-                        YS[2, l] = c5 * k2[l]
-                        if nv == 4:
-                            YS[3, l] = c5 * k3[l]
-                        E[0, l] = c3 * k0[l]
-                        E[1, l] = c3 * k1[l]
-                        E[2, l] = c3 * k2[l]
-                        if nv == 4:
-                            E[3, l] = c3 * k3[l]
-                else:
-                    for l in range(n):
-                        YS[0, l] += c5 * k0[l]
-                        YS[1, l] += c5 * k1[l]
-                        YS[2, l] += c5 * k2[l]
-                        if nv == 4:
-                            YS[3, l] += c5 * k3[l]
-                        E[0, l] += c3 * k0[l]
-                        E[1, l] += c3 * k1[l]
-                        E[2, l] += c3 * k2[l]
-                        if nv == 4:
-                            E[3, l] += c3 * k3[l]
-            for l in range(n):
-                e5 = 0.0
-                e3 = 0.0
-                for c in range(nv):
-                    sc = atol + rtol * max(abs(Y0[c, l]), abs(Y1[c, l]))
-                    e5 += (YS[c, l] / sc) ** 2
-                    e3 += (E[c, l] / sc) ** 2
-                err[l] = e5
-                fac[l] = e3
-            _force_scaled_slots(Y1, fend, n, a, b, p, q, m, n_damp, k_spring, k_damp, relax)
-            # --- accept or reject (vectorised); crossings and locating slots are special ---
-            for l in range(n):
-                e5 = err[l]
-                den = e5 + 0.01 * fac[l]
-                en = abs(h[l]) * e5 / math.sqrt(den * nv) if den > 0.0 else 0.0
-                ok = en <= 1.0  # False for NaN
-                cross = (Y1[0, l] < 0.0) | (Y1[2, l] > t_max) | (active_force[l] & (fend[l] < 0.0))
-                special[l] = locating[l] | (ok & cross)
-                # err^(-1/8) by three square roots (vectorises; no pow)
-                grow = _SAFETY / math.sqrt(math.sqrt(math.sqrt(en))) if en > 0.0 else _MAX_FACTOR
-                grow = min(_MAX_FACTOR, grow)
-                if rejected[l]:
-                    grow = min(1.0, grow)
-                shrink = max(_MIN_FACTOR, grow) if en == en else _MIN_FACTOR
-                take = ok & ~special[l]
-                for c in range(nv):
-                    Y0[c, l] = Y1[c, l] if take else Y0[c, l]
-                    K[0, c, l] = K[_NS, c, l] if take else K[0, c, l]
-                sig[l] = sig[l] + h[l] if take else sig[l]
-                hn = h[l] * (grow if ok else shrink)
-                h[l] = h[l] if special[l] else hn
-                rejected[l] = rejected[l] if special[l] else ~ok
-                nsteps[l] += 1
+            step(S, n, rtol, atol, p, q, t_max)
             # --- one by one: bracket and locate the end, finish, refill or compact ---
             for l in range(n - 1, -1, -1):
-                if not special[l]:
-                    if nsteps[l] <= _MAX_STEPS:
+                a, b, h = S[L.ALPHA + l], S[L.BETA + l], S[L.H + l]
+                nsteps = S[L.NSTEPS + l]
+                if S[L.SPECIAL + l] == 0.0:
+                    if nsteps <= _MAX_STEPS:
                         continue
-                    locating[l] = True  # give up on this collision: end it here
+                    S[L.LOCATING + l] = 1.0  # give up on this collision: end it here
                     h_lo[l], h_hi[l], g_lo[l], g_hi[l] = 0.0, 0.0, 1.0, -1.0
-                    h[l] = 0.0
+                    S[L.H + l] = 0.0
                     continue
-                g1 = _event(Y1[0, l], Y1[1, l], Y1[2, l], a[l], b[l], p, m, q, force_end, t_max)
-                slope = _event_slope(Y1, K, _NS, l, a[l], b[l], p, m, q, force_end, t_max, h[l])
+                g1, part, g1_force = _event_min(S, L.S1, l, a, b, p, m, q, force_end, t_max)
+                slope = math.nan
                 guess = -1.0
-                if not locating[l]:  # a crossing inside this step: bracket it on the step length
-                    g0 = _event(Y0[0, l], Y0[1, l], Y0[2, l], a[l], b[l], p, m, q, force_end, t_max)
-                    locating[l] = True
+                if S[L.LOCATING + l] == 0.0:  # a crossing inside this step: bracket it
+                    g0, _, g0_force = _event_min(S, L.S0, l, a, b, p, m, q, force_end, t_max)
+                    S[L.LOCATING + l] = 1.0
                     h_lo[l], g_lo[l] = 0.0, max(g0, 0.0)
-                    h_hi[l], g_hi[l] = h[l], min(g1, 0.0)
+                    h_hi[l], g_hi[l] = h, min(g1, 0.0)
                     side[l] = 0
                     # first guess: the Hermite cubic of the event that ends the step (the
                     # min of several is not smooth where another one was smallest)
-                    part = _event_part(Y1[0, l], Y1[1, l], Y1[2, l], a[l], b[l], p, m, q,
-                                       force_end, t_max)
-                    gp0 = _event(Y0[0, l], Y0[1, l], Y0[2, l], a[l], b[l], p, m, q, force_end,
-                                 t_max, part)
-                    gp1 = _event(Y1[0, l], Y1[1, l], Y1[2, l], a[l], b[l], p, m, q, force_end,
-                                 t_max, part)
+                    gp0 = _event_part(S, L.S0, l, part, g0_force, t_max)
+                    gp1 = _event_part(S, L.S1, l, part, g1_force, t_max)
                     if gp0 > 0.0 and gp1 < 0.0:
-                        slope0 = _event_slope(Y0, K, 0, l, a[l], b[l], p, m, q, force_end, t_max,
-                                              h[l], part)
-                        slope1 = _event_slope(Y1, K, _NS, l, a[l], b[l], p, m, q, force_end,
-                                              t_max, h[l], part)
-                        guess = _hermite_root(gp0, slope0, gp1, slope1, h[l])
+                        slope0 = _event_slope(S, L.S0, L.FS0, l, part, gp0, a, b, p, m, q, h,
+                                              True)
+                        slope = _event_slope(S, L.S1, L.FS1, l, part, gp1, a, b, p, m, q, h,
+                                             True)
+                        guess = _hermite_root(gp0, slope0, gp1, slope, h)
                 elif g1 > 0.0:
-                    h_lo[l], g_lo[l] = h[l], g1
+                    h_lo[l], g_lo[l] = h, g1
                     if side[l] == 1:
                         g_hi[l] *= 0.5
                     side[l] = 1
                 elif g1 < 0.0:
-                    h_hi[l], g_hi[l] = h[l], g1
+                    h_hi[l], g_hi[l] = h, g1
                     if side[l] == -1:
                         g_lo[l] *= 0.5
                     side[l] = -1
                 # Newton on the step length (slope of the event along the solution), kept inside
                 # the bracket; else the Illinois secant; else bisection
+                if slope != slope:
+                    slope = _event_slope(S, L.S1, L.FS1, l, part, g1, a, b, p, m, q, h, False)
                 width = h_hi[l] - h_lo[l]
-                hn = h[l] - g1 / slope if slope != 0.0 else -1.0
+                hn = h - g1 / slope if slope != 0.0 else -1.0
                 # a Newton step this short ends the search: the first-order extrapolation
                 # along the solution to it errs by O(step^2), far below the tolerance
-                newton_step = hn - h[l]
-                close = (h_lo[l] < hn < h_hi[l] and abs(newton_step) <= ext * h[l]
-                         and nsteps[l] <= _MAX_STEPS)
+                newton_step = hn - h
+                close = (h_lo[l] < hn < h_hi[l] and abs(newton_step) <= ext * h
+                         and nsteps <= _MAX_STEPS)
                 if h_lo[l] < guess < h_hi[l]:
                     hn = guess
                 if not h_lo[l] < hn < h_hi[l]:
                     hn = h_lo[l] - g_lo[l] * width / (g_hi[l] - g_lo[l])
                 if not h_lo[l] < hn < h_hi[l]:
                     hn = 0.5 * (h_lo[l] + h_hi[l])
-                tol = 4e-16 * (sig[l] + h_hi[l])
-                if not (g1 == 0.0 or close or abs(hn - h[l]) <= tol or width <= tol
-                        or nsteps[l] > _MAX_STEPS):
-                    h[l] = hn
+                tol = 4e-16 * (S[L.SIG + l] + h_hi[l])
+                if not (g1 == 0.0 or close or abs(hn - h) <= tol or width <= tol
+                        or nsteps > _MAX_STEPS):
+                    S[L.H + l] = hn
                     continue
                 if close and g1 != 0.0:
                     for c in range(nv):
-                        Y1[c, l] += newton_step * K[_NS, c, l]
+                        S[L.S1 + c * _SLOTS + l] += newton_step * S[L.FS1 + c * _SLOTS + l]
                 k = idx[l]
-                sep = Y1[2, l] < t_max * (1.0 - 1e-12) and nsteps[l] <= _MAX_STEPS
+                s1, v1, t1 = S[L.S1 + l], S[L.V1 + l], S[L.T1 + l]
+                sep = t1 < t_max * (1.0 - 1e-12) and nsteps <= _MAX_STEPS
                 sep_out[k] = sep
-                e_out[k] = max(-Y1[1, l], 0.0) if sep else 0.0
-                tc_out[k] = Y1[2, l] if sep else math.inf
-                res_out[k] = max(Y1[0, l], 0.0) ** m
-                w_out[k] = Y1[nv - 1, l] if nv == 4 else math.nan
-                steps_out[k] = nsteps[l]
+                e_out[k] = max(-v1, 0.0) if sep else 0.0
+                tc_out[k] = t1 if sep else math.inf
+                res_out[k] = max(s1, 0.0) ** m
+                w_out[k] = S[L.W1 + l] if nv == 4 else math.nan
+                steps_out[k] = int(nsteps)
                 if nxt < hi:
-                    _load(l, nxt, alpha, beta, a, b, Y0, K, h, sig, rejected, locating, nsteps, idx,
-                          active_force, force_end, p, m, nv)
+                    _load(S, l, nxt, alpha, beta, idx, force_end, p, m, nv)
                     nxt += 1
                     continue
-                n -= 1  # move the last live slot here (it was handled already)
+                n -= 1  # move the last live lane here (it was handled already)
                 if l < n:
-                    for c in range(nv):
-                        Y0[c, l] = Y0[c, n]
-                        Y1[c, l] = Y1[c, n]
-                        K[0, c, l] = K[0, c, n]
-                    h[l], sig[l], a[l], b[l] = h[n], sig[n], a[n], b[n]
-                    active_force[l], rejected[l], locating[l] = active_force[n], rejected[n], locating[n]
+                    for f in range(L.N_FIELDS):
+                        S[f * _SLOTS + l] = S[f * _SLOTS + n]
                     h_lo[l], h_hi[l], g_lo[l], g_hi[l] = h_lo[n], h_hi[n], g_lo[n], g_hi[n]
-                    side[l], idx[l], nsteps[l] = side[n], idx[n], nsteps[n]
-
-
+                    side[l], idx[l] = side[n], idx[n]
 
     return solve_range
 
@@ -446,24 +372,27 @@ def _solver(m: int, n_damp: int, nv: int, relax: bool):
         _SOLVERS[key] = _make_solver(*key)
     return _SOLVERS[key]
 
+
 @_jit
-def _load(l, k, alpha, beta, a, b, Y0, K, h, sig, rejected, locating, nsteps, idx, active_force,
-          force_end, p, m, nv):
-    """Put collision k into slot l at x = 0, x' = 1 (nv components: s, v, t and maybe W)."""
-    a[l] = alpha[k]
-    b[l] = beta[k]
-    h[l] = _first_step(b[l], m)
+def _load(S, l, k, alpha, beta, idx, force_end, p, m, nv):
+    """Put collision k into lane l at x = 0, x' = 1 (nv components: s, v, t and maybe W)."""
+    a = alpha[k]
+    b = beta[k]
+    S[L.ALPHA + l] = a
+    S[L.BETA + l] = b
+    S[L.H + l] = _first_step(b, m)
     y = (0.0, 1.0, 0.0, 0.0)
-    f = rhs_sigma(0.0, 1.0, 0.0, a[l], b[l], p, m)
+    f = rhs_sigma(0.0, 1.0, 0.0, a, b, p, m)
     for c in range(nv):
-        Y0[c, l] = y[c]
-        K[0, c, l] = f[c]
-    sig[l] = 0.0
-    rejected[l] = False
-    locating[l] = False
-    nsteps[l] = 0
+        S[L.S0 + c * _SLOTS + l] = y[c]
+        S[L.FS0 + c * _SLOTS + l] = f[c]
+    S[L.SIG + l] = 0.0
+    S[L.REJECTED + l] = 0.0
+    S[L.LOCATING + l] = 0.0
+    S[L.SPECIAL + l] = 0.0
+    S[L.NSTEPS + l] = 0.0
+    S[L.ACTIVE_FORCE + l] = 1.0 if force_end and a > 0.0 else 0.0
     idx[l] = k
-    active_force[l] = force_end and a[l] > 0.0
 
 
 def solve_batch(
