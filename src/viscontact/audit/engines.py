@@ -24,8 +24,6 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from scipy.optimize import brentq
-
 from ..collision import check_end
 from .formulas import (
     antypov_elliott_alpha, antypov_elliott_inverse, delivered_e, exact_alpha,
@@ -180,6 +178,8 @@ def _tsuji_from(factor: float) -> Callable[[float, Physical | None], float]:
         if not (lo_a <= alpha <= hi_a):
             raise ValueError(f"the Tsuji curve used by LAMMPS spans alpha in [{lo_a:.4g}, {hi_a:.4g}] "
                              f"for e in [0, 1]; alpha = {alpha:.6g} is outside it")
+        from scipy.optimize import brentq
+
         return brentq(lambda e: factor * tsuji_polynomial(e) - alpha, 0.0, 1.0, xtol=1e-15, rtol=1e-15)
 
     return inv
