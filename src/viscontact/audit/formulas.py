@@ -27,6 +27,8 @@ from functools import lru_cache
 
 import numpy as np
 
+# scipy is imported in the functions that use it: the command line loads this module for
+# its --help, which should not pay for scipy.
 from ..calibration import alpha_from_e, restitution
 from ..collision import check_end
 from ..laws import lookup
@@ -299,7 +301,7 @@ def first_order_formula(model: str, p: float | None = None) -> Formula:
     return Formula(
         name=f"first-order-{suffix}", title=f"first-order energy ({law.name})", model=law.name,
         reference="energy dissipated along the undamped Hertz path, 1 - e = I1(p) alpha",
-        # the coefficient on first use: the registry is built at import, scipy.special is not
+        # I1(p) on first use: the registry is built at import, scipy.special only when needed
         func=lambda e: (1.0 - e) / first_order_coefficient(pp), derived_for=None,
         p=pp if law.p is None else None,
     )

@@ -29,6 +29,8 @@ from typing import Any
 
 import numpy as np
 
+# scipy is imported in the functions that use it: the command line loads this module for
+# its --help, which should not pay for scipy.
 from ..calibration import alpha_from_e
 from ..dimensional import damping_coefficient, damping_constants, damping_unit, time_scale
 from ..laws import STUDY_MODELS, lookup

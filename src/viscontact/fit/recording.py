@@ -24,6 +24,8 @@ from typing import Any
 
 import numpy as np
 
+# scipy is imported in the functions that use it: the command line loads this module for
+# its --help, which should not pay for scipy.
 from ..dimensional import check_positive
 
 __all__ = [
