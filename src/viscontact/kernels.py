@@ -36,8 +36,6 @@ _inline = numba.njit(cache=True, fastmath=False, nogil=True, error_model="numpy"
 
 #: exp(-40) < 5e-18: beyond t = 40 beta the factor g is 1 to double precision
 _RELAXED = 40.0
-#: the smallest positive double (subnormal): max(beta, _TINY) = beta for every beta > 0
-_TINY = 5e-324
 
 
 @_inline
@@ -63,10 +61,10 @@ def relaxation(t: float, beta: float) -> float:
 
     Written with selects instead of branches so that it vectorises across lanes.
     """
-    # beta = 0 selects 1 below; dividing by the smallest positive double instead (beta
-    # itself for every beta > 0) keeps plain Python, which raises on x / 0, on this path
-    y = t / max(beta, _TINY)
-    y = y if y < _RELAXED else _RELAXED  # also t / _TINY = inf
+    # beta = 0 selects g = 1 below; not dividing by it keeps plain Python (which raises on
+    # x / 0, see viscontact.kernels_py) on the same path
+    y = t / (beta if beta > 0.0 else 1.0)
+    y = y if y < _RELAXED else _RELAXED
     g = -_expm1_neg(y)
     return g if beta > 0.0 else 1.0
 
