@@ -1,7 +1,7 @@
 """The kernels of :mod:`viscontact.kernels` as plain Python functions, without numba.
 
 Importing numba and initialising its compiler back end (LLVM) when the first cached
-kernel is loaded costs about 0.5 s, fifty times what one collision with histories costs
+kernel is loaded costs about 0.5 s, twenty to fifty times what one collision with histories costs
 (about 10^4 kernel calls).  A process that solves a single collision, such as the command
 ``viscontact collide``, calls these instead.
 
