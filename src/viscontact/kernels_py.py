@@ -1,9 +1,9 @@
 """The kernels of :mod:`viscontact.kernels` as plain Python functions, without numba.
 
 Importing numba and initialising its compiler back end (LLVM) when the first cached
-kernel is loaded costs about 0.5 s, twenty to fifty times what one collision with histories costs
-(about 10^4 kernel calls).  A process that solves a single collision, such as the command
-``viscontact collide``, calls these instead.
+kernel is loaded costs about 0.5 s, twenty to fifty times what one collision with
+histories costs (about 10^4 kernel calls).  The reference solver calls these instead for
+a process's first few collisions, so that ``viscontact collide`` never loads numba.
 
 There is still one expression of each force law: :func:`python_kernels` executes the
 source of :mod:`viscontact.kernels` itself, with ``numba.njit`` replaced by the identity,
