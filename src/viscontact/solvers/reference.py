@@ -26,7 +26,7 @@ from .base import DEFAULT_RTOL, T_MAX, Contact
 _HISTORY_POINTS = 801  # samples in each history, uniform in t
 _PACKAGE = __package__.rpartition(".")[0]  # viscontact
 #: solves in plain Python before this process loads the compiled kernels: numba's start-up
-#: (about 0.5 s) costs what about 20 solves lose in plain Python (10 to 30 ms each)
+#: (about 0.5 s) is what 20 to 50 solves lose in plain Python (10 to 25 ms each)
 PLAIN_SOLVES = 8
 _solve_count = itertools.count()
 
