@@ -5,10 +5,11 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import tables
 from .collision import check_end
 from .laws import LawParams, check_finite_nonneg, resolve
-from .solvers import solve_batch
+
+# The tables and the batch solver (numba) are imported where they are used, so that importing
+# this module (the command line does) does not load the compiler.
 
 __all__ = ["restitution", "alpha_from_e", "ALPHA_MAX"]
 
@@ -44,6 +45,8 @@ def _law_grid(model: str, alpha: ArrayLike, beta: ArrayLike | None, p: float | N
 
 
 def _e_of(lp: LawParams, alpha: np.ndarray, beta: np.ndarray | None, end: str) -> np.ndarray:
+    from .solvers.batch import solve_batch
+
     return solve_batch(lp, alpha, end, beta=beta, dissipated=False).e
 
 
@@ -61,6 +64,8 @@ def restitution(
     Inside alpha, beta in [0, 10] every law but ``power`` answers from a precomputed table
     (:mod:`viscontact.tables`, |e - exact| <= 1e-10); ``exact=True`` always solves.
     """
+    from . import tables
+
     check_end(end)
     lp, a, b = _law_grid(model, alpha, beta, p)
     out = _e_of(lp, a, b, end) if exact else tables.through_tables("e", lp, a, b, end, _e_of)
@@ -153,5 +158,7 @@ def alpha_from_e(
         out = _invert(lp, np.ascontiguousarray(e_f).ravel(), None if b is None else
                       np.ascontiguousarray(b).ravel(), end).reshape(e_f.shape)
     else:
+        from . import tables
+
         out = tables.through_tables("alpha", lp, e_f, b, end, _invert)
     return float(out) if out.ndim == 0 else out

@@ -60,7 +60,8 @@ def relaxation(t: float, beta: float) -> float:
     """g(t) = 1 - exp(-t/beta), the Jian switch-on factor; 1 when beta = 0 (KK).
 
     A branch, not a select: scalar callers (the end-of-contact events) skip the series when
-    beta = 0, and loops over lanes still vectorise (the compiler turns it into a select).
+    beta = 0, and loops over lanes still vectorise (the compiler turns it into a select);
+    it never divides by 0, which plain Python (:mod:`viscontact.kernels_py`) would raise on.
     """
     if beta > 0.0:
         y = t * (1.0 / beta)  # 1/beta: one division per lane for all of a step's stages

@@ -24,8 +24,8 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from scipy.optimize import brentq
-
+# scipy is imported in the functions that use it: the command line loads this module for
+# its --help, which should not pay for scipy.
 from ..collision import check_end
 from .formulas import (
     antypov_elliott_alpha, antypov_elliott_inverse, delivered_e, exact_alpha,
@@ -180,6 +180,8 @@ def _tsuji_from(factor: float) -> Callable[[float, Physical | None], float]:
         if not (lo_a <= alpha <= hi_a):
             raise ValueError(f"the Tsuji curve used by LAMMPS spans alpha in [{lo_a:.4g}, {hi_a:.4g}] "
                              f"for e in [0, 1]; alpha = {alpha:.6g} is outside it")
+        from scipy.optimize import brentq
+
         return brentq(lambda e: factor * tsuji_polynomial(e) - alpha, 0.0, 1.0, xtol=1e-15, rtol=1e-15)
 
     return inv

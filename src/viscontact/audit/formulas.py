@@ -26,9 +26,9 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from scipy.optimize import brentq
-from scipy.special import beta as beta_fn
 
+# scipy is imported in the functions that use it: the command line loads this module for
+# its --help, which should not pay for scipy.
 from ..calibration import alpha_from_e, restitution
 from ..collision import check_end
 from ..laws import lookup
@@ -142,6 +142,8 @@ def hunt_exact_alpha(e: float) -> float:
         if _hunt_residual(hi, e, le) > 0:
             break
         delta *= 1e-2
+    from scipy.optimize import brentq
+
     return brentq(lambda a: _hunt_residual(a, e, le), 0.0, hi, xtol=1e-300, rtol=1e-15, maxiter=500)
 
 
@@ -183,6 +185,8 @@ def _muller_poschel(e: float) -> float:
         hi *= 4.0
         if hi > 1e120:  # pragma: no cover - only for e below ~1e-180
             return math.nan
+    from scipy.optimize import brentq
+
     return brentq(lambda a: muller_poschel_e(a) - e, 0.0, hi, xtol=1e-15, rtol=1e-15)
 
 
@@ -230,11 +234,14 @@ def _tsuji_lammps_sqrt2(e: float) -> float:
 
 
 # ------------------------------------------------------------------------- any law (energy)
+@lru_cache(maxsize=64)
 def first_order_coefficient(p: float) -> float:
     """I1(p) = (5/4)^(2(p+1)/5 - 1) B(2(p+1)/5, 3/2): 1 - e = I1(p) alpha + O(alpha^2).
 
     The energy dissipated along the undamped Hertz trajectory, to first order in alpha.
     """
+    from scipy.special import beta as beta_fn
+
     q = 2.0 * (p + 1.0) / 5.0
     return 1.25 ** (q - 1.0) * float(beta_fn(q, 1.5))
 
@@ -290,12 +297,12 @@ def first_order_formula(model: str, p: float | None = None) -> Formula:
         if p is not None:
             raise ValueError(f"model {law.name} has a fixed exponent p = {law.p}; p is only for 'power'")
         pp = float(law.p)
-    coeff = first_order_coefficient(pp)
     suffix = law.name.lower() if law.p is not None else f"power-p{pp:g}"
     return Formula(
         name=f"first-order-{suffix}", title=f"first-order energy ({law.name})", model=law.name,
         reference="energy dissipated along the undamped Hertz path, 1 - e = I1(p) alpha",
-        func=lambda e, c=coeff: (1.0 - e) / c, derived_for=None,
+        # I1(p) on first use: the registry is built at import, scipy.special only when needed
+        func=lambda e: (1.0 - e) / first_order_coefficient(pp), derived_for=None,
         p=pp if law.p is None else None,
     )
 

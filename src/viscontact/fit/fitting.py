@@ -28,8 +28,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.optimize import least_squares
 
+# scipy is imported in the functions that use it: the command line loads this module for
+# its --help, which should not pay for scipy.
 from ..calibration import alpha_from_e
 from ..dimensional import damping_coefficient, damping_constants, damping_unit, time_scale
 from ..laws import STUDY_MODELS, lookup
@@ -114,6 +115,8 @@ def _least_squares(fun: Callable[[np.ndarray], np.ndarray], params: Sequence[_Pa
     sample as samples enter and leave the simulated contact, which stops a fine-step search
     early), then fine steps from there for the optimum and the Jacobian of the covariance.
     """
+    from scipy.optimize import least_squares
+
     lo, hi = [p.lo for p in params], [p.hi for p in params]
     x = np.array([min(max(p.x0, p.lo), p.hi) for p in params])
     for step in _DIFF_STEPS:

@@ -23,8 +23,9 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from scipy.optimize import least_squares
 
+# scipy is imported in the functions that use it: the command line loads this module for
+# its --help, which should not pay for scipy.
 from ..dimensional import check_positive
 
 __all__ = [
@@ -279,6 +280,8 @@ def _edge(t: np.ndarray, f: np.ndarray, rising: bool) -> float | None:
     Where the foot of the edge hides in the noise (a Hertz-like u^(3/2) start, light
     damping) the start is uncertain by a few samples: see the tolerances in tests/test_fit.py.
     """
+    from scipy.optimize import least_squares
+
     if t.size < 6:
         return None
     s = 1.0 if rising else -1.0

@@ -9,17 +9,26 @@ to zero tangentially (alpha = 0): there the zero of s is a simple root in sigma.
 
 from __future__ import annotations
 
+import importlib
+import itertools
 import math
+import sys
+import types
 
 import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 
-from ..kernels import end_force_event, force_s, rhs_sigma
+from ..kernels_py import python_kernels
 from ..laws import LawParams
 from .base import DEFAULT_RTOL, T_MAX, Contact
 
 _HISTORY_POINTS = 801  # samples in each history, uniform in t
+_PACKAGE = __package__.rpartition(".")[0]  # viscontact
+#: solves in plain Python before this process loads the compiled kernels: numba's start-up
+#: (about 0.5 s) is what 20 to 50 solves lose in plain Python (10 to 25 ms each)
+PLAIN_SOLVES = 8
+_solve_count = itertools.count()
 
 
 def _event(fn, terminal: bool, direction: float):
@@ -28,17 +37,39 @@ def _event(fn, terminal: bool, direction: float):
     return fn
 
 
+def kernels() -> types.ModuleType:
+    """The kernels for the next solve: :mod:`viscontact.kernels` (compiled) once this process
+    has loaded it or has solved :data:`PLAIN_SOLVES` collisions, else the same functions as
+    plain Python (:mod:`viscontact.kernels_py`).
+
+    A process that solves a few collisions (``viscontact collide``) then skips numba's
+    start-up; the numbers are the same either way (tested).
+    """
+    compiled = sys.modules.get(f"{_PACKAGE}.kernels")
+    if compiled is not None:
+        return compiled
+    if next(_solve_count) < PLAIN_SOLVES:
+        return python_kernels()
+    return importlib.import_module(f"{_PACKAGE}.kernels")
+
+
 def solve_reference(
     lp: LawParams, alpha: float, end: str, *, rtol: float = DEFAULT_RTOL, detail: bool = True
 ) -> Contact:
     """Solve one collision (contract in :class:`viscontact.solvers.base.SolveFn`)."""
     p, beta, m = lp.p, lp.beta, lp.m
+    k = kernels()
+    rhs_sigma, force_s, end_force_event = k.rhs_sigma, k.force_s, k.end_force_event
 
+    # Python floats, not numpy scalars: faster through the plain-Python kernels, and the
+    # same numbers through the compiled ones
     def fun(_sig, y):
-        return rhs_sigma(y[0], y[1], y[2], alpha, beta, p, m)
+        s, v, t, _w = y.tolist()
+        return rhs_sigma(s, v, t, alpha, beta, p, m)
 
     def f_of(y):
-        return force_s(y[0], y[1], y[2], alpha, beta, p, m)
+        s, v, t, _w = y.tolist()
+        return force_s(s, v, t, alpha, beta, p, m)
 
     events = [
         _event(lambda _s, y: y[0], True, -1.0),  # x = 0
@@ -49,7 +80,8 @@ def solve_reference(
         q = min(m * p, 1.5 * m)
 
         def zero_force(_s, y):
-            return end_force_event(y[0], y[1], y[2], alpha, beta, p, m, q)
+            s, v, t, _w = y.tolist()
+            return end_force_event(s, v, t, alpha, beta, p, m, q)
 
         events.append(_event(zero_force, True, -1.0))
     # Jian with tiny beta switches damping on at t ~ beta: do not step over it.
