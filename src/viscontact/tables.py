@@ -88,9 +88,9 @@ _FORMAT = 2  # bump when the file layout changes
 # their sums run in vector registers.
 _NA, _NB = _NODES_2D
 _E_CELLS = 256  # cells in e of the 2D block search (:func:`_count_above`)
-_SAMPLES_2D = 9  # evenly spaced samples of a reduced 2D block that start the Newton inversion
+_SAMPLES_2D = 5  # evenly spaced samples of a reduced 2D block that start the Newton inversion
 _LOOKUP_CELLS = 512  # most cells of a lookup index (:func:`_lookup`)
-_BATCH = 32  # points the 2D inversion carries through each of its stages together
+_BATCH = 32  # points the 2D kernels carry through each of their stages together
 
 #: T_k at the samples of :func:`_sample`, [k, m] (a constant of the compiled code)
 _T_AT_SAMPLES = np.ascontiguousarray(
@@ -411,19 +411,19 @@ def _row(rows, j: int):
 
 
 @_ijit
-def _eval2(ax, rows, bx, blut, bscale, alut, ascale, ct, a: float, b: float, tb, r) -> float:
-    """e_table(a, b); NaN outside the table (one return, as in :func:`_block2`)."""
+def _place2(ax, rows, bx, blut, bscale, alut, ascale, a: float, b: float, tb):
+    """(block g, xi of a in it) of the point (a, b), ``tb`` the beta basis at b; g = -1
+    outside the table (one return, as in :func:`_block2`)."""
     inside = 0.0 <= b <= bx[0][-1]
-    j = _find(bx[0], blut, bscale, b if inside else 0.0)
+    y = b if inside else 0.0
+    j = _find(bx[0], blut, bscale, y)
     g0, n = _row(rows, j)
     brk = ax[0][g0 + j:g0 + j + n + 1]  # this row's alpha breaks
     inside = inside and 0.0 <= a <= brk[n]
     x = a if inside else 0.0
     g = g0 + _find(brk, alut[j], ascale[j], x)
-    _basis(_to_unit(b if inside else 0.0, bx[1][j], bx[2][j], bx[3][j], bx[4][j], bx[5][j]), tb)
-    _reduce(ct[g], tb, r)
-    e = _cheb(r, _to_unit(x, ax[1][g], ax[2][g], ax[3][g], ax[4][g], ax[5][g]))
-    return e if inside else math.nan
+    _basis(_to_unit(y, bx[1][j], bx[2][j], bx[3][j], bx[4][j], bx[5][j]), tb)
+    return g if inside else -1, _to_unit(x, ax[1][g], ax[2][g], ax[3][g], ax[4][g], ax[5][g])
 
 
 @_ijit
@@ -523,11 +523,13 @@ def _invert2_many(ax, rows, bx, blut, bscale, ct, left, cells, e, b, out, chunks
             for p in range(m):
                 blk[p], row[p], out[first + p] = _block2(ax, rows, bx, blut, bscale, left, cells,
                                                          e[first + p], b[first + p], tb[p])
+            for p in range(m):  # short: the blocks of several points load at once
+                if blk[p] >= 0:
+                    _reduce(ct[blk[p]], tb[p], r[p])
             for p in range(m):
                 g = blk[p]
                 if g >= 0:
                     target = e[first + p]
-                    _reduce(ct[g], tb[p], r[p])
                     bracket[p] = _sample(r[p], s[p], target)
                     if target < s[p, _SAMPLES_2D - 1]:  # between two pieces (they agree to
                         j = row[p]  # ~1e-12) or below the table
@@ -549,14 +551,27 @@ def _invert2_many(ax, rows, bx, blut, bscale, ct, left, cells, e, b, out, chunks
 
 @_pjit
 def _eval2_many(ax, rows, bx, blut, bscale, alut, ascale, ct, a, b, out, chunks):
-    """out = e(a, b) over the arrays, in parallel chunks that allocate their scratch once."""
+    """out = e_table(a, b) over the arrays (NaN outside the table), in parallel chunks, in
+    batches taken through the stages together as in :func:`_invert2_many`: place the point
+    (:func:`_place2`), reduce its block (:func:`_reduce`), sum the series."""
     n = a.shape[0]
     size = (n + chunks - 1) // chunks
     for ch in numba.prange(chunks):
-        tb = np.empty(_NB)
-        r = np.empty(_NA)
-        for j in range(ch * size, min(n, (ch + 1) * size)):
-            out[j] = _eval2(ax, rows, bx, blut, bscale, alut, ascale, ct, a[j], b[j], tb, r)
+        tb = np.empty((_BATCH, _NB))
+        r = np.empty((_BATCH, _NA))
+        blk = np.empty(_BATCH, dtype=np.int64)
+        xi = np.empty(_BATCH)
+        stop = min(n, (ch + 1) * size)
+        for first in range(ch * size, stop, _BATCH):
+            m = min(_BATCH, stop - first)
+            for p in range(m):
+                blk[p], xi[p] = _place2(ax, rows, bx, blut, bscale, alut, ascale, a[first + p],
+                                        b[first + p], tb[p])
+            for p in range(m):
+                if blk[p] >= 0:
+                    _reduce(ct[blk[p]], tb[p], r[p])
+            for p in range(m):
+                out[first + p] = _cheb(r[p], xi[p]) if blk[p] >= 0 else math.nan
 
 
 # --------------------------------------------------------------------------------------------
