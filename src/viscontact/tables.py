@@ -28,11 +28,17 @@ hashes the source of every module that determines the values, so a code change r
 
 Evaluation and inversion are compiled (numba, parallel over the input array).  The inverse
 alpha(e) is a safeguarded Newton iteration on the (monotone decreasing) interpolant, started
-by inverse quadratic interpolation in a dense sample of each piece (1D), or from the ends of
-the piece (2D); it stops when the residual in e is below 1e-13, or when a Taylor bound puts
-the residual after the last step below 1e-11 (one evaluation fewer; the contract is 1e-9).
-A 1D piece is evaluated only up to its last coefficient that matters: the trailing ones it
-skips sum to at most 1e-13.
+by inverse quadratic interpolation in a dense sample of each piece (1D), or in a few samples
+of the block's series in alpha at the point's beta (2D); it stops when the residual in e is
+below 1e-13, or when a Taylor bound puts the residual after the last step below 1e-11 (one
+evaluation fewer; the contract is 1e-9).  A 1D piece is evaluated only up to its last
+coefficient that matters: the trailing ones it skips sum to at most 1e-13.
+
+The 2D kernels (about 60 ns a point on one core, the inversion twice that) find the beta
+piece and the alpha piece in O(1) (lookup grids; for the inversion, cells in e that leave
+one candidate block, mostly), reduce the block to a series in alpha with fixed-size sums the
+compiler vectorises, and take points through these stages in small batches, so that the
+processor overlaps the latencies of several points.
 """
 
 from __future__ import annotations
@@ -87,6 +93,7 @@ _FORMAT = 2  # bump when the file layout changes
 # The 2D kernels work on blocks of a fixed size: with the trip counts known when compiling,
 # their sums run in vector registers.
 _NA, _NB = _NODES_2D
+assert _NA % 2 == 0 and _NB % 2 == 0 and _NB >= 4  # two partial sums; _basis writes T_0..T_3
 _E_CELLS = 256  # cells in e of the 2D block search (:func:`_count_above`)
 _SAMPLES_2D = 5  # evenly spaced samples of a reduced 2D block that start the Newton inversion
 _LOOKUP_CELLS = 512  # most cells of a lookup index (:func:`_lookup`)
