@@ -440,7 +440,7 @@ def _count_above(left, cells, g0: int, tb, e: float) -> int:
     the first ``certain`` blocks start above every e of the cell at every beta of the row,
     blocks from ``possible`` on below every one; only those between (one, mostly) are
     summed."""
-    c = cells[min(int(e * _E_CELLS), _E_CELLS - 1)]
+    c = cells[min(max(int(e * _E_CELLS), 0), _E_CELLS - 1)]  # NaN or e <= 0: the first cell
     above = c[0]
     for i in range(c[0], c[1]):
         a0 = 0.0
