@@ -202,3 +202,85 @@ def test_build_all_covers_every_table():
     built = tables.build_all()
     assert set(built) == {(law, end) for law in tables.TABLE_LAWS for end in ENDS}
     assert all(t is not None and t.max_error <= TOL for t in built.values())
+
+
+# --- Jian (2D): the fast kernels' pieces, against brute force --------------------------------
+
+
+def test_lookup_finds_the_same_piece_as_a_search():
+    rng = np.random.default_rng(13)
+    for law, end in [("Jian", "overlap"), ("Jian", "force"), ("KK", "force")]:
+        table = tables.get_table(law, end)
+        axes = [table.alpha_axis[0]] if table.beta_axis is None else [table.beta_axis[0]]
+        for breaks in axes:
+            lut, scale = tables._lookup(breaks, 64)  # few cells: several pieces share one
+            x = np.concatenate([rng.uniform(0, breaks[-1], 2000), breaks,
+                                np.nextafter(breaks, 0), np.nextafter(breaks, np.inf)])
+            x = x[(x >= 0) & (x <= breaks[-1])]
+            want = np.minimum(np.searchsorted(breaks, x, side="right") - 1, breaks.size - 2)
+            got = np.array([tables._find(breaks, lut, scale, v) for v in x])
+            assert np.array_equal(got, want)
+
+
+@pytest.mark.parametrize("end", ENDS)
+def test_jian_block_cells_bracket_every_block_search(end):
+    """The (certain, possible) counts of each e cell contain the brute-force count of blocks
+    whose left end lies at or above e, at every beta of the row."""
+    table = tables.get_table("Jian", end)
+    rng = np.random.default_rng(17)
+    left = table._left
+    for j in range(table.rows.size - 1):
+        g0, g1 = table.rows[j], table.rows[j + 1]
+        xb = rng.uniform(-1, 1, 300)
+        e = rng.uniform(0, 1, 300)
+        values = np.polynomial.chebyshev.chebval(xb, left[g0:g1].T)  # (blocks, points)
+        count = np.count_nonzero(values >= e, axis=0)
+        cell = table._cells[j][np.minimum((e * tables._E_CELLS).astype(int), tables._E_CELLS - 1)]
+        assert np.all(cell[:, 0] <= count) and np.all(count <= cell[:, 1])
+
+
+@pytest.mark.parametrize("end", ENDS)
+def test_jian_inversion_round_trip_at_the_edges(end):
+    """Round trips where the fast path has its special cases: beta near 0 and near 10, e near
+    1 (alpha near 0), e at alpha = 10 (the table's end), e at alpha piece boundaries."""
+    table = tables.get_table("Jian", end)
+    rng = np.random.default_rng(19)
+    beta = np.concatenate([10 ** rng.uniform(-9, -2, 60), 10 - 10 ** rng.uniform(-9, -1, 60),
+                           [10.0, 1e-300], rng.choice(table.beta_axis[0][1:], 40),
+                           rng.uniform(0, 10, 200)])
+    n = beta.size
+    breaks = table.alpha_axis[0]
+    alpha = np.concatenate([np.full(n // 4, 10.0), rng.choice(breaks[breaks > 0], n // 4),
+                            10 ** rng.uniform(-9, -3, n // 4)])
+    alpha = np.concatenate([alpha, rng.uniform(0, 10, n - alpha.size)])
+    e = tables.exact_e("Jian", end, alpha, beta)
+    e = np.concatenate([e, np.minimum(e + 1e-12, 1.0), 1 - 10 ** rng.uniform(-12, -6, n)])
+    beta = np.tile(beta, 3)
+    keep = e > 0
+    got = vc.alpha_from_e("Jian", e[keep], beta=beta[keep], end=end)
+    assert np.all(got >= 0) and np.all(np.isfinite(got))  # e(10) a hair below the table's: beyond 10
+    back = tables.exact_e("Jian", end, got, beta[keep])
+    assert np.max(np.abs(back - e[keep])) <= TRIP_TOL
+
+
+def test_jian_beyond_the_table_the_exact_solver_inverts():
+    e = np.array([0.7, 0.5])
+    for beta in (12.0, 250.0):
+        assert np.array_equal(vc.alpha_from_e("Jian", e, beta=beta),
+                              vc.alpha_from_e("Jian", e, beta=beta, exact=True))
+    low = vc.restitution("Jian", 40.0, beta=0.5)  # below the table's e range at this beta
+    assert vc.alpha_from_e("Jian", low, beta=0.5) == vc.alpha_from_e("Jian", low, beta=0.5,
+                                                                       exact=True)
+
+
+def test_newton_finish_falls_back_from_a_poor_start():
+    """_finish takes two Newton steps from its start and, if they leave the root unfinished,
+    the safeguarded iteration: a start far from the root still ends on it."""
+    c = np.polynomial.chebyshev.poly2cheb([0.6, -0.3, -0.05, 0.01])  # decreasing on [-1, 1]
+    s = np.polynomial.chebyshev.chebval(np.linspace(-1, 1, tables._SAMPLES_2D), c)
+    target = float(np.polynomial.chebyshev.chebval(0.37, c))
+    a = int(np.count_nonzero(s[1:-1] >= target))
+    curvature = float(np.sum(np.abs(np.polynomial.chebyshev.chebder(c, 2))))
+    for start in (0.37, -0.99, 0.99, math.nan):
+        xi = tables._finish(c, s, a, target, curvature, start)
+        assert abs(np.polynomial.chebyshev.chebval(xi, c) - target) <= 1e-12

@@ -28,11 +28,17 @@ hashes the source of every module that determines the values, so a code change r
 
 Evaluation and inversion are compiled (numba, parallel over the input array).  The inverse
 alpha(e) is a safeguarded Newton iteration on the (monotone decreasing) interpolant, started
-by inverse quadratic interpolation in a dense sample of each piece (1D), or from the ends of
-the piece (2D); it stops when the residual in e is below 1e-13, or when a Taylor bound puts
-the residual after the last step below 1e-11 (one evaluation fewer; the contract is 1e-9).
-A 1D piece is evaluated only up to its last coefficient that matters: the trailing ones it
-skips sum to at most 1e-13.
+by inverse quadratic interpolation in a dense sample of each piece (1D), or in a few samples
+of the block's series in alpha at the point's beta (2D); it stops when the residual in e is
+below 1e-13, or when a Taylor bound puts the residual after the last step below 1e-11 (one
+evaluation fewer; the contract is 1e-9).  A 1D piece is evaluated only up to its last
+coefficient that matters: the trailing ones it skips sum to at most 1e-13.
+
+The 2D kernels (about 60 ns a point on one core, the inversion twice that) find the beta
+piece and the alpha piece in O(1) (lookup grids; for the inversion, cells in e that leave
+one candidate block, mostly), reduce the block to a series in alpha with fixed-size sums the
+compiler vectorises, and take points through these stages in small batches, so that the
+processor overlaps the latencies of several points.
 """
 
 from __future__ import annotations
@@ -84,6 +90,18 @@ _INVERSE_TOL = 1e-13  # |e_table(alpha) - e| at which the inversion stops (contr
 #: evaluating again (a bound, not a residual; still 100 times below the 1e-9 contract)
 _STEP_TOL = 1e-11
 _FORMAT = 2  # bump when the file layout changes
+# The 2D kernels work on blocks of a fixed size: with the trip counts known when compiling,
+# their sums run in vector registers.
+_NA, _NB = _NODES_2D
+assert _NA % 2 == 0 and _NB % 2 == 0 and _NB >= 4  # two partial sums; _basis writes T_0..T_3
+_E_CELLS = 256  # cells in e of the 2D block search (:func:`_count_above`)
+_SAMPLES_2D = 5  # evenly spaced samples of a reduced 2D block that start the Newton inversion
+_LOOKUP_CELLS = 512  # most cells of a lookup index (:func:`_lookup`)
+_BATCH = 32  # points the 2D kernels carry through each of their stages together
+
+#: T_k at the samples of :func:`_sample`, [k, m] (a constant of the compiled code)
+_T_AT_SAMPLES = np.ascontiguousarray(
+    npcheb.chebvander(np.linspace(-1.0, 1.0, _SAMPLES_2D), _NA - 1).T)
 
 # "contract" lets a * b + c become one fused multiply-add (one rounding, half the latency of
 # the Clenshaw chains); no other fast-math liberties.
@@ -149,12 +167,13 @@ def _from_unit(xi: float, kind: int, order: float, anchor: float, ylo: float, yh
 
 @_ijit
 def _cheb(c, xi: float) -> float:
-    """sum_k c_k T_k(xi) by Clenshaw's recurrence."""
+    """sum_k c_k T_k(xi) by Clenshaw's recurrence (c_k - b_{k+2} is ready a step early:
+    one fused multiply-add a step on the dependency chain)."""
     b1 = 0.0
     b2 = 0.0
     x2 = 2.0 * xi
     for k in range(c.shape[0] - 1, 0, -1):
-        b1, b2 = x2 * b1 - b2 + c[k], b1
+        b1, b2 = x2 * b1 + (c[k] - b2), b1
     return xi * b1 - b2 + c[0]
 
 
@@ -168,8 +187,8 @@ def _cheb_d(c, xi: float):
     d2 = 0.0
     x2 = 2.0 * xi
     for k in range(n - 1, 0, -1):
-        d1, d2 = x2 * d1 - d2 + k * c[k], d1
-        b1, b2 = x2 * b1 - b2 + c[k], b1
+        d1, d2 = x2 * d1 + (k * c[k] - d2), d1  # as in _cheb
+        b1, b2 = x2 * b1 + (c[k] - b2), b1
     return xi * b1 - b2 + c[0], d1
 
 
@@ -275,6 +294,40 @@ def _solve_sampled(c, s, a: int, target: float, curvature: float) -> float:
 
 
 @_ijit
+def _guess(s, a: int, target: float) -> float:
+    """xi where the inverse parabola through samples a, a + 1 and a neighbour of ``s`` (e at
+    evenly spaced xi, s[a] >= target >= s[a + 1]) takes e = ``target``."""
+    ns = s.shape[0]
+    h = 2.0 / (ns - 1)
+    x0 = -1.0 + a * h
+    n3 = a + 2 if a + 2 < ns else a - 1
+    return _inverse_quadratic(x0, s[a], x0 + h, s[a + 1], -1.0 + n3 * h, s[n3], target)
+
+
+@_ijit
+def _newton(c, target: float, xi: float) -> float:
+    """One Newton step on sum c_k T_k(xi) = target."""
+    f, df = _cheb_d(c, xi)
+    return xi - (f - target) / df
+
+
+@_ijit
+def _finish(c, s, a: int, target: float, curvature: float, xi: float) -> float:
+    """The second of the two Newton steps :func:`_solve_sampled` usually takes from
+    :func:`_guess`, written out (no loop exit to mispredict); the rare point it leaves
+    unfinished (residual above _INVERSE_TOL and Taylor bound above _STEP_TOL, or a step out
+    of the bracket) goes to :func:`_solve_sampled`."""
+    f, df = _cheb_d(c, xi)
+    step = (f - target) / df
+    new = xi - step
+    x0 = -1.0 + a * (2.0 / (s.shape[0] - 1))
+    if (x0 <= new <= x0 + 2.0 / (s.shape[0] - 1)
+            and (abs(f - target) <= _INVERSE_TOL or 0.5 * curvature * step * step <= _STEP_TOL)):
+        return new
+    return _solve_sampled(c, s, a, target, curvature)
+
+
+@_ijit
 def _invert1(breaks, kind, order, anchor, ylo, yhi, coef, deg, samples, curvature,
              target: float) -> float:
     """alpha with e_table(alpha) = target; NaN when the target is below the table's e range.
@@ -313,30 +366,49 @@ def _invert1_many(breaks, kind, order, anchor, ylo, yhi, coef, deg, samples, cur
 
 @_ijit
 def _basis(xi: float, t):
-    """t[l] = T_l(xi) for every l."""
+    """t[l] = T_l(xi) for l < _NB: T_0 to T_3 by the recurrence, then by doubling,
+    T_{m+i} = 2 T_m T_i - T_{m-i} with T_m = 2 T_{m/2}^2 - 1 (m = 4, 8, ...): a chain of a
+    few dependent steps where the recurrence has _NB."""
     t[0] = 1.0
-    if t.shape[0] > 1:
-        t[1] = xi
-    for k in range(2, t.shape[0]):
-        t[k] = 2.0 * xi * t[k - 1] - t[k - 2]
+    t[1] = xi
+    t[2] = 2.0 * xi * xi - 1.0
+    t[3] = 2.0 * xi * t[2] - xi
+    m = 4
+    while m < _NB:
+        tm = 2.0 * t[m // 2] * t[m // 2] - 1.0
+        t[m] = tm
+        for i in range(1, min(m, _NB - m)):
+            t[m + i] = 2.0 * tm * t[i] - t[m - i]
+        m *= 2
 
 
 @_ijit
-def _rows(ct, tb, r):
-    """r[k] = sum_l ct[l, k] tb[l]: a 2D piece (stored transposed, beta index first) reduced
-    to a Chebyshev series in alpha; the inner loop runs over k, so it vectorises."""
-    r[:] = 0.0
-    for l in range(ct.shape[0]):
-        w = tb[l]
-        for k in range(ct.shape[1]):
-            r[k] += ct[l, k] * w
+def _find(breaks, lut, scale: float, x: float) -> int:
+    """:func:`_locate` in O(1): ``lut[c]`` is the piece holding the left end of cell
+    c = floor(x * scale) of an even grid (:func:`_lookup`), so x lies in that piece or a
+    later one (several only where pieces are narrower than a cell)."""
+    i = lut[min(int(x * scale), lut.shape[0] - 1)]
+    while i > 0 and breaks[i] > x:  # a cell's end rounded past x
+        i -= 1
+    last = breaks.shape[0] - 2
+    while i < last and breaks[i + 1] <= x:
+        i += 1
+    return i
 
 
 @_ijit
-def _unit2(ax, x: float):
-    """(piece index, xi) of x on an axis (breaks, kind, order, anchor, ylo, yhi)."""
-    i = _locate(ax[0], x)
-    return i, _to_unit(x, ax[1][i], ax[2][i], ax[3][i], ax[4][i], ax[5][i])
+def _reduce(ct, tb, r):
+    """r[k] = sum_l ct[l, k] tb[l]: a 2D block (stored transposed, beta index first) reduced
+    to a Chebyshev series in alpha.  Each sum is kept in scalars (two, for two shorter
+    dependency chains) and stored once, and the fixed trip counts let the compiler run the
+    _NA sums in vector registers (an output updated in memory is reloaded on every term)."""
+    for k in range(_NA):
+        a0 = 0.0
+        a1 = 0.0
+        for l in range(0, _NB, 2):
+            a0 += ct[l, k] * tb[l]
+            a1 += ct[l + 1, k] * tb[l + 1]
+        r[k] = a0 + a1
 
 
 @_ijit
@@ -346,88 +418,167 @@ def _row(rows, j: int):
 
 
 @_ijit
-def _eval2(ax, rows, bx, ct, a: float, b: float, tb, r) -> float:
-    if not (0.0 <= b <= bx[0][-1]):
-        return math.nan
-    j, xb = _unit2(bx, b)
+def _place2(ax, rows, bx, blut, bscale, alut, ascale, a: float, b: float, tb):
+    """(block g, xi of a in it) of the point (a, b), ``tb`` the beta basis at b; g = -1
+    outside the table (one return, as in :func:`_block2`)."""
+    inside = 0.0 <= b <= bx[0][-1]
+    y = b if inside else 0.0
+    j = _find(bx[0], blut, bscale, y)
     g0, n = _row(rows, j)
     brk = ax[0][g0 + j:g0 + j + n + 1]  # this row's alpha breaks
-    if not (0.0 <= a <= brk[n]):
-        return math.nan
-    g = g0 + _locate(brk, a)
-    xa = _to_unit(a, ax[1][g], ax[2][g], ax[3][g], ax[4][g], ax[5][g])
-    _basis(xb, tb)
-    _rows(ct[g], tb, r)
-    return _cheb(r, xa)
+    inside = inside and 0.0 <= a <= brk[n]
+    x = a if inside else 0.0
+    g = g0 + _find(brk, alut[j], ascale[j], x)
+    _basis(_to_unit(y, bx[1][j], bx[2][j], bx[3][j], bx[4][j], bx[5][j]), tb)
+    return g if inside else -1, _to_unit(x, ax[1][g], ax[2][g], ax[3][g], ax[4][g], ax[5][g])
 
 
 @_ijit
-def _dot(c, t) -> float:
-    """sum_l c[l] t[l] in four interleaved partial sums (four independent chains)."""
-    n = t.shape[0]
-    a0 = a1 = a2 = a3 = 0.0
-    for l in range(0, n - 3, 4):
-        a0 += c[l] * t[l]
-        a1 += c[l + 1] * t[l + 1]
-        a2 += c[l + 2] * t[l + 2]
-        a3 += c[l + 3] * t[l + 3]
-    for l in range(n - n % 4, n):
-        a0 += c[l] * t[l]
-    return (a0 + a1) + (a2 + a3)
+def _count_above(left, cells, g0: int, tb, e: float) -> int:
+    """How many blocks of a row start (left end, beta series ``left[g0 + i]``) at
+    e_table >= e.  ``cells[c]`` = (certain, possible) for the e cell c = floor(e * _E_CELLS):
+    the first ``certain`` blocks start above every e of the cell at every beta of the row,
+    blocks from ``possible`` on below every one; only those between (one, mostly) are
+    summed."""
+    c = cells[min(max(int(e * _E_CELLS), 0), _E_CELLS - 1)]  # NaN or e <= 0: the first cell
+    above = c[0]
+    for i in range(c[0], c[1]):
+        a0 = 0.0
+        a1 = 0.0
+        ci = left[g0 + i]
+        for l in range(0, _NB, 2):
+            a0 += ci[l] * tb[l]
+            a1 += ci[l + 1] * tb[l + 1]
+        above += a0 + a1 >= e
+    return above
 
 
 @_ijit
-def _invert2(ax, rows, bx, ct, edges, e: float, b: float, tb, r) -> float:
-    """alpha with e_table(alpha, b) = e; NaN outside the table.
+def _sample(r, s, e: float) -> int:
+    """s[m] = the series r at the evenly spaced xi of :data:`_T_AT_SAMPLES`; returns a with
+    s[a] >= e > s[a + 1] (counted over the interior samples, without a branch)."""
+    a = 0
+    for m in range(_SAMPLES_2D):
+        a0 = 0.0
+        a1 = 0.0
+        for k in range(0, _NA, 2):
+            a0 += _T_AT_SAMPLES[k, m] * r[k]
+            a1 += _T_AT_SAMPLES[k + 1, m] * r[k + 1]
+        s[m] = a0 + a1
+    for m in range(1, _SAMPLES_2D - 1):
+        a += s[m] >= e
+    return a
 
-    ``edges[g, 0]`` and ``edges[g, 1]`` are the beta series of e at the left and right end
-    of block g, so the alpha piece is found without reducing every block of the row.
-    """
-    if not (0.0 <= b <= bx[0][-1]):
-        return math.nan
-    j, xb = _unit2(bx, b)
-    g0, n = _row(rows, j)
-    _basis(xb, tb)
-    top = _dot(edges[g0, 0], tb)
-    if e >= 1.0 or e >= top:  # e = 1 only without damping
-        return 0.0
-    lo = 0
-    hi = n - 1
-    e_lo = top
-    while lo < hi:  # the last piece whose left end has e >= target
-        mid = (lo + hi + 1) // 2
-        v = _dot(edges[g0 + mid, 0], tb)
-        if v >= e:
-            lo = mid
-            e_lo = v
-        else:
-            hi = mid - 1
-    g = g0 + lo
-    e_hi = _dot(edges[g, 1], tb)
-    if e < e_hi:  # between two pieces that agree to ~1e-12, or below the table
-        return ax[0][g + j + 1] if lo + 1 < n else math.nan
-    _rows(ct[g], tb, r)
-    bound = 0.0  # |T_k''| <= k^2 (k^2 - 1) / 3 on [-1, 1]: a bound on the series' curvature
+
+@_ijit
+def _block2(ax, rows, bx, blut, bscale, left, cells, e: float, b: float, tb):
+    """First stage of the inversion alpha(e, b): (block g, row j, answer); g = -1 when the
+    answer is final (NaN outside the table, 0 above its e range), else ``tb`` holds the
+    beta basis at b.  ``left`` and ``cells`` (:func:`_count_above`) find the block without
+    reducing every block of the row.  One return at the end: early ones made the compiled
+    stage twice as slow."""
+    inside = 0.0 <= b <= bx[0][-1]
+    x = b if inside else 0.0
+    j = _find(bx[0], blut, bscale, x)
+    g0 = rows[j]
+    _basis(_to_unit(x, bx[1][j], bx[2][j], bx[3][j], bx[4][j], bx[5][j]), tb)
+    above = _count_above(left, cells[j], g0, tb, e)
+    g = g0 + above - 1
+    answer = math.nan
+    if not inside:
+        g = -1
+    elif e >= 1.0 or above == 0:  # e = 1 only without damping
+        g = -1
+        answer = 0.0
+    return g, j, answer
+
+
+@_ijit
+def _curvature_bound(r) -> float:
+    """sum_k |r_k| max |T_k''| >= max |e''| on [-1, 1] (|T_k''| <= k^2 (k^2 - 1) / 3)."""
+    bound = 0.0
     for k in range(2, r.shape[0]):
         bound += abs(r[k]) * (k * k * (k * k - 1.0) / 3.0)
-    xi = _solve_piece(r, e, -1.0, 1.0, e_lo, e_hi, math.nan, bound)
-    return _from_unit(xi, ax[1][g], ax[2][g], ax[3][g], ax[4][g], ax[5][g])
+    return bound
 
 
 @_pjit
-def _many2(ax, rows, bx, ct, edges, x, b, out, chunks, invert: bool):
-    """out = e(x, b) (or alpha(x, b) when ``invert``) over the arrays, in parallel chunks
-    that allocate their scratch rows once."""
-    n = x.shape[0]
+def _invert2_many(ax, rows, bx, blut, bscale, ct, left, cells, e, b, out, chunks):
+    """out = alpha(e, b), alpha with e_table(alpha, b) = e (NaN outside the table), over the
+    arrays in parallel chunks.
+
+    A chunk takes its points through the stages in batches of _BATCH: find the block
+    (:func:`_block2`), reduce it to a series in alpha and sample it along the block
+    (:func:`_sample`), the inverse-parabola guess and a Newton step, the second step
+    (:func:`_finish`).  Each stage is a short dependency chain, independent from point to
+    point, so the processor overlaps several points; carried through every stage one at a
+    time, a point is a single long chain and the processor mostly waits.
+    """
+    n = e.shape[0]
     size = (n + chunks - 1) // chunks
     for ch in numba.prange(chunks):
-        tb = np.empty(ct.shape[1])
-        r = np.empty(ct.shape[2])
-        for j in range(ch * size, min(n, (ch + 1) * size)):
-            if invert:
-                out[j] = _invert2(ax, rows, bx, ct, edges, x[j], b[j], tb, r)
-            else:
-                out[j] = _eval2(ax, rows, bx, ct, x[j], b[j], tb, r)
+        tb = np.empty((_BATCH, _NB))
+        r = np.empty((_BATCH, _NA))
+        s = np.empty((_BATCH, _SAMPLES_2D))
+        blk = np.empty(_BATCH, dtype=np.int64)
+        row = np.empty(_BATCH, dtype=np.int64)
+        bracket = np.empty(_BATCH, dtype=np.int64)
+        xi = np.empty(_BATCH)
+        stop = min(n, (ch + 1) * size)
+        for first in range(ch * size, stop, _BATCH):
+            m = min(_BATCH, stop - first)
+            for p in range(m):
+                blk[p], row[p], out[first + p] = _block2(ax, rows, bx, blut, bscale, left, cells,
+                                                         e[first + p], b[first + p], tb[p])
+            for p in range(m):  # short: the blocks of several points load at once
+                if blk[p] >= 0:
+                    _reduce(ct[blk[p]], tb[p], r[p])
+            for p in range(m):
+                g = blk[p]
+                if g >= 0:
+                    target = e[first + p]
+                    bracket[p] = _sample(r[p], s[p], target)
+                    if target < s[p, _SAMPLES_2D - 1]:  # between two pieces (they agree to
+                        j = row[p]  # ~1e-12) or below the table
+                        out[first + p] = ax[0][g + j + 1] if g + 1 < rows[j + 1] else math.nan
+                        blk[p] = -1
+                    else:
+                        xi[p] = _guess(s[p], bracket[p], target)
+            for p in range(m):
+                if blk[p] >= 0:
+                    xi[p] = _newton(r[p], e[first + p], xi[p])
+            for p in range(m):
+                g = blk[p]
+                if g >= 0:
+                    x = _finish(r[p], s[p], bracket[p], e[first + p], _curvature_bound(r[p]),
+                                xi[p])
+                    out[first + p] = _from_unit(x, ax[1][g], ax[2][g], ax[3][g], ax[4][g],
+                                                ax[5][g])
+
+
+@_pjit
+def _eval2_many(ax, rows, bx, blut, bscale, alut, ascale, ct, a, b, out, chunks):
+    """out = e_table(a, b) over the arrays (NaN outside the table), in parallel chunks, in
+    batches taken through the stages together as in :func:`_invert2_many`: place the point
+    (:func:`_place2`), reduce its block (:func:`_reduce`), sum the series."""
+    n = a.shape[0]
+    size = (n + chunks - 1) // chunks
+    for ch in numba.prange(chunks):
+        tb = np.empty((_BATCH, _NB))
+        r = np.empty((_BATCH, _NA))
+        blk = np.empty(_BATCH, dtype=np.int64)
+        xi = np.empty(_BATCH)
+        stop = min(n, (ch + 1) * size)
+        for first in range(ch * size, stop, _BATCH):
+            m = min(_BATCH, stop - first)
+            for p in range(m):
+                blk[p], xi[p] = _place2(ax, rows, bx, blut, bscale, alut, ascale, a[first + p],
+                                        b[first + p], tb[p])
+            for p in range(m):
+                if blk[p] >= 0:
+                    _reduce(ct[blk[p]], tb[p], r[p])
+            for p in range(m):
+                out[first + p] = _cheb(r[p], xi[p]) if blk[p] >= 0 else math.nan
 
 
 # --------------------------------------------------------------------------------------------
@@ -435,7 +586,7 @@ def _many2(ax, rows, bx, ct, edges, x, b, out, chunks, invert: bool):
 # --------------------------------------------------------------------------------------------
 
 def _chunks() -> int:
-    """Work items of the 2D driver :func:`_many2`."""
+    """Work items of the 2D drivers (:func:`_eval2_many`, :func:`_invert2_many`)."""
     return 8 * numba.get_num_threads()
 
 
@@ -471,6 +622,33 @@ def _axis(pieces: list[Piece]) -> tuple[np.ndarray, ...]:
     return (breaks, np.array([pc.kind for pc in pieces], dtype=np.int64),
             *(np.array([getattr(pc, f) for pc in pieces], dtype=float)
               for f in ("order", "anchor", "ylo", "yhi")))
+
+
+def _lookup(breaks: np.ndarray, cells: int, fixed: bool = False) -> tuple[np.ndarray, float]:
+    """(lut, scale) of :func:`_find` over [0, breaks[-1]]: ``lut[c]`` is the piece holding
+    x = c / scale.  ``cells`` of them (``fixed``), else as many as the narrowest piece asks
+    for, up to ``cells``."""
+    span = float(breaks[-1])
+    if not fixed:
+        cells = int(min(cells, max(1, math.ceil(span / np.min(np.diff(breaks))))))
+    scale = cells / span
+    lut = np.searchsorted(breaks[1:-1], np.arange(cells) / scale, side="right")
+    return lut.astype(np.int32), scale
+
+
+def _block_cells(left: np.ndarray) -> np.ndarray:
+    """(certain, possible) of :func:`_count_above` for every e cell of one row, whose blocks'
+    left ends have the beta series ``left`` (blocks, _NB): the e range of each left end over
+    the row, from 1025 samples widened by the most the series can change between two."""
+    xb = np.linspace(-1.0, 1.0, 1025)
+    values = npcheb.chebval(xb, left.T)  # (blocks, samples)
+    slack = np.abs(left) @ np.arange(_NB) ** 2 * (xb[1] - xb[0]) + 1e-12  # |T_l'| <= l^2
+    low = np.minimum.accumulate(values.min(axis=1) - slack)  # decreasing along the row, as e
+    high = np.maximum.accumulate((values.max(axis=1) + slack)[::-1])[::-1]
+    edges = np.arange(_E_CELLS + 1) / _E_CELLS
+    certain = np.count_nonzero(low[:, None] >= edges[None, 1:], axis=0)
+    possible = np.count_nonzero(high[:, None] >= edges[None, :-1], axis=0)
+    return np.stack([certain, np.maximum(possible, certain)], axis=1).astype(np.int64)
 
 
 def _axis_pieces(axis: tuple[np.ndarray, ...]) -> list[Piece]:
@@ -519,13 +697,26 @@ class Table:
             self._inv = np.array([npcheb.chebval(xi, c) for c in cut])
             # sum |c''_k| >= max |e''| on a piece (|T_k| <= 1): bounds a Newton step's residual
             self._curvature = np.array([np.sum(np.abs(npcheb.chebder(c, 2))) for c in cut])
-        else:  # beta series of e at both ends of every alpha piece
+        else:
+            # beta series of e at the left end of every alpha piece
             left = np.einsum("k,gkl->gl", (-1.0) ** np.arange(self.coef.shape[1]), self.coef)
-            self._inv = np.ascontiguousarray(np.stack([left, self.coef.sum(axis=1)], axis=1))
-            self._ct = np.ascontiguousarray(self.coef.transpose(0, 2, 1))  # for _rows
+            self._ct = np.ascontiguousarray(self.coef.transpose(0, 2, 1))  # for _reduce
+            counts = np.diff(self.rows)
+            self._left = np.ascontiguousarray(left)
+            self._cells = np.array([_block_cells(left[g0:g0 + n]) for g0, n in zip(self.rows, counts)])
+            self._beta_lookup = _lookup(self.beta_axis[0], _LOOKUP_CELLS)
+            rows = [_lookup(self.alpha_axis[0][g0 + j:g0 + j + n + 1], _LOOKUP_CELLS, fixed=True)
+                    for j, (g0, n) in enumerate(zip(self.rows, counts))]
+            self._alpha_lookup = (np.array([lut for lut, _ in rows]),
+                                  np.array([scale for _, scale in rows]))
 
-    def _kernel_2d(self) -> tuple:
-        return self.alpha_axis, self.rows, self.beta_axis, self._ct, self._inv
+    def _kernel_e2(self) -> tuple:
+        return (self.alpha_axis, self.rows, self.beta_axis, *self._beta_lookup,
+                *self._alpha_lookup, self._ct)
+
+    def _kernel_alpha2(self) -> tuple:
+        return (self.alpha_axis, self.rows, self.beta_axis, *self._beta_lookup, self._ct,
+                self._left, self._cells)
 
     def e(self, alpha: np.ndarray, beta: np.ndarray | None = None) -> np.ndarray:
         """e at each alpha (and beta); NaN where the point lies outside the table."""
@@ -535,7 +726,7 @@ class Table:
             _eval1_many(*self.alpha_axis, self.coef, self._deg, a, out)
         else:
             b = np.ascontiguousarray(beta, dtype=float).ravel()
-            _many2(*self._kernel_2d(), a, b, out, _chunks(), False)
+            _eval2_many(*self._kernel_e2(), a, b, out, _chunks())
         return out.reshape(np.shape(alpha))
 
     def alpha(self, e: np.ndarray, beta: np.ndarray | None = None) -> np.ndarray:
@@ -547,7 +738,7 @@ class Table:
                           out)
         else:
             b = np.ascontiguousarray(beta, dtype=float).ravel()
-            _many2(*self._kernel_2d(), t, b, out, _chunks(), True)
+            _invert2_many(*self._kernel_alpha2(), t, b, out, _chunks())
         return out.reshape(np.shape(e))
 
     def to_arrays(self) -> dict[str, np.ndarray]:
@@ -572,7 +763,7 @@ class Table:
         npc = coef.shape[0]
         n_rows = 1 if rows is None else rows.size - 1
         ok = (alpha_axis[0].size == npc + n_rows and all(v.shape == (npc,) for v in alpha_axis[1:])
-              and coef.ndim == (2 if rows is None else 3))
+              and (coef.ndim == 2 if rows is None else coef.shape[1:] == _NODES_2D))
         if rows is not None:
             ok = ok and beta_axis[0].size == rows.size and rows[0] == 0 and rows[-1] == npc and \
                 bool(np.all(np.diff(rows) > 0))
