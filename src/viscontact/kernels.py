@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 
 import numba
+import numpy as np
 
 __all__ = [
     "relaxation", "ipow", "spow", "damping_term", "spring_s", "damping_s", "force_s", "force",
@@ -36,36 +37,42 @@ _inline = numba.njit(cache=True, fastmath=False, nogil=True, error_model="numpy"
 
 #: exp(-40) < 5e-18: beyond t = 40 beta the factor g is 1 to double precision
 _RELAXED = 40.0
-
-
-@_inline
-def _expm1_neg(y: float) -> float:
-    """exp(-y) - 1 for 0 <= y <= 40 without library calls (so it vectorises across lanes).
-
-    Taylor series of expm1 at z = -y/128 (|z| <= 0.32, truncation < 1e-19), then seven
-    doublings expm1(2z) = w (2 + w), which carry no cancellation.
-    """
-    z = -y * (1.0 / 128.0)
-    w = 1.0
-    for n in range(15, 1, -1):  # Horner: z (1 + z/2 (1 + z/3 (... (1 + z/15))))
-        w = 1.0 + z * w * (1.0 / n)  # constants once the loop is unrolled
-    w = z * w
-    for _ in range(7):
-        w = w * (2.0 + w)
-    return w
+#: nodes of the relaxation table per unit of t / beta
+_RELAX_NODES_PER_UNIT = 16
+_RELAX_SPACING = 1.0 / _RELAX_NODES_PER_UNIT
+_RELAX_JS = range(int(_RELAXED * _RELAX_NODES_PER_UNIT) + 1)
+#: exp(-j/16) and 1 - exp(-j/16) at the nodes (libm: correctly rounded to within an ulp)
+_RELAX_EXP = np.array([math.exp(-j * _RELAX_SPACING) for j in _RELAX_JS])
+_RELAX_GAP = np.array([-math.expm1(-j * _RELAX_SPACING) for j in _RELAX_JS])
+#: 1/(k+1)!, k = 0..8: expm1(u) = u sum_k u^k/(k+1)!, truncation (1/16)^9/10! < 5e-18
+_INV_FACTORIALS = np.array([1.0 / math.factorial(k + 1) for k in range(9)])
 
 
 @_inline
 def relaxation(t: float, beta: float) -> float:
-    """g(t) = 1 - exp(-t/beta), the Jian switch-on factor; 1 when beta = 0 (KK).
+    """g(t) = 1 - exp(-t/beta), the Jian switch-on factor (SPEC section 2); 1 when beta = 0 (KK).
 
-    A branch, not a select: scalar callers (the end-of-contact events) skip the series when
+    Without library calls, so that it vectorises across lanes: with y = t/beta = j/16 + r,
+    0 <= r < 1/16 (y capped at 40, where g = 1 to double precision),
+
+        g = (1 - exp(-j/16)) - exp(-j/16) expm1(-r),
+
+    a sum of two non-negative terms (no cancellation), the first two from a table, expm1(-r)
+    from nine terms of its Taylor series (Horner): within a few ulp of g.
+
+    A branch, not a select: scalar callers (the end-of-contact events) skip all this when
     beta = 0, and loops over lanes still vectorise (the compiler turns it into a select);
     it never divides by 0, which plain Python (:mod:`viscontact.kernels_py`) would raise on.
     """
     if beta > 0.0:
         y = t * (1.0 / beta)  # 1/beta: one division per lane for all of a step's stages
-        return -_expm1_neg(y if y < _RELAXED else _RELAXED)
+        y = y if y < _RELAXED else _RELAXED  # also NaN
+        j = max(int(y * _RELAX_NODES_PER_UNIT), 0)
+        u = j * _RELAX_SPACING - y  # -r, exact (Sterbenz)
+        w = _INV_FACTORIALS[8]
+        for k in range(7, -1, -1):
+            w = _INV_FACTORIALS[k] + u * w
+        return _RELAX_GAP[j] - _RELAX_EXP[j] * (u * w)
     return 1.0
 
 

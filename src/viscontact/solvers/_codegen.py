@@ -75,7 +75,9 @@ def source() -> str:
     out += [
         "",
         "",
-        '@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")',
+        # not inlined by numba, whose inlining of thirteen copies took ~30 s to compile: LLVM
+        # inlines it once the constants are known, and the loop over lanes still vectorises
+        '@numba.njit(cache=True, nogil=True, error_model="numpy")',
         "def _rhs(s, v, t, a, b, p, m, n_damp):",
         '    """Right-hand side (ds, dv, dt, dW): the integer-power form when n_damp >= 0."""',
         "    if n_damp >= 0:",

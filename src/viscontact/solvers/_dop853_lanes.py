@@ -117,7 +117,7 @@ _E5_10 = float(_dop853.E5[10])
 _E5_11 = float(_dop853.E5[11])
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(cache=True, nogil=True, error_model="numpy")
 def _rhs(s, v, t, a, b, p, m, n_damp):
     """Right-hand side (ds, dv, dt, dW): the integer-power form when n_damp >= 0."""
     if n_damp >= 0:

@@ -317,13 +317,15 @@ def _make_solver(m: int, n_damp: int, nv: int, relax: bool):
                 # Newton on the step length (slope of the event along the solution), kept inside
                 # the bracket; else the Illinois secant; else bisection
                 if slope != slope:
-                    slope = _event_slope(S, L.S1, L.FS1, l, part, g1, a, b, p, m, q, h, False)
+                    slope = _event_slope(S, L.S1, L.FS1, l, part, g1, a, b, p, m, q, h, True)
                 width = h_hi[l] - h_lo[l]
                 hn = h - g1 / slope if slope != 0.0 else -1.0
                 # a Newton step this short ends the search: the first-order extrapolation
                 # along the solution to it errs by O(step^2), far below the tolerance
                 newton_step = hn - h
-                close = (h_lo[l] < hn < h_hi[l] and abs(newton_step) <= ext * h
+                tol = 4e-16 * (S[L.SIG + l] + h_hi[l])
+                # (the bracket widened by tol: a Newton step below rounding may land on its end)
+                close = (h_lo[l] - tol <= hn <= h_hi[l] + tol and abs(newton_step) <= ext * h
                          and nsteps <= _MAX_STEPS)
                 if h_lo[l] < guess < h_hi[l]:
                     hn = guess
@@ -331,7 +333,6 @@ def _make_solver(m: int, n_damp: int, nv: int, relax: bool):
                     hn = h_lo[l] - g_lo[l] * width / (g_hi[l] - g_lo[l])
                 if not h_lo[l] < hn < h_hi[l]:
                     hn = 0.5 * (h_lo[l] + h_hi[l])
-                tol = 4e-16 * (S[L.SIG + l] + h_hi[l])
                 if not (g1 == 0.0 or close or abs(hn - h) <= tol or width <= tol
                         or nsteps > _MAX_STEPS):
                     S[L.H + l] = hn
