@@ -5,17 +5,22 @@ Same equations as the reference solver (the regularised sigma-time system of
 integral) and the same end criteria, but no histories and no Python per collision:
 
 - the batch is cut into chunks that a pool of threads shares (``numba.get_num_threads()``
-  of them; the compiled solver releases the GIL); a thread
-  advances up to ``_SLOTS`` collisions of its chunk in lockstep, their states stored as
-  structure-of-arrays so that every stage is a plain loop over slots that the compiler
-  vectorises; each slot has its own step size (Dormand-Prince 8(5,3), the tableau
-  shipped with scipy's DOP853, and scipy's error norm and step control); a finished slot
-  takes the next collision of the chunk, or the last live slot, so the cost is linear
-  in the batch size and the memory a few arrays of it;
+  of them; the compiled solver releases the GIL); a thread advances up to ``SLOTS`` (128)
+  collisions of its chunk in lockstep ("lanes"), their states the rows of one flat array;
+  each lane has its own step size (Dormand-Prince 8(5,3), the tableau shipped with scipy's
+  DOP853, and scipy's error norm and step control); a finished lane takes the next
+  collision of the chunk, or the last live lane, so the cost is linear in the batch size
+  and the memory a few arrays of it;
+- one step of every lane is :func:`._dop853_lanes.dop853_lanes`, generated straight-line
+  code (:mod:`._codegen`: twelve stages as scalar locals, no inner loops, no library
+  calls), which the compiler vectorises across lanes (8 doubles per instruction with
+  AVX-512), with fused multiply-adds; accept/reject and the next step size follow in a
+  second vectorised loop (:func:`_accept_lanes`); only lanes whose step crosses an end of
+  contact are handled one by one;
 - with m p an integer (every named law, and ``power`` with p a multiple of 1/8) the
   right-hand side is :func:`viscontact.kernels.rhs_sigma_int`: straight-line code, no
-  library calls (the relaxation factor of Jian uses an inline expm1); otherwise the
-  general :func:`viscontact.kernels.rhs_sigma` (|s|^k by pow), slower;
+  library calls (the relaxation factor of Jian from a table and a short series);
+  otherwise the general :func:`viscontact.kernels.rhs_sigma` (|s|^k by pow), slower;
 - each shape of the equations (m, m p, whether some beta > 0, whether W is wanted) is
   compiled once with these as constants (:func:`_make_solver`): the integer powers fold
   to a few multiplications and an unused W (``dissipated=False``, as ``restitution``
@@ -25,8 +30,8 @@ integral) and the same end criteria, but no histories and no Python per collisio
   crossing zero from above; a step that crosses is not taken but shortened to the
   crossing by safeguarded Newton iterations on its length (first guess: the root of the
   cubic Hermite interpolant of the ending event over the step; slope of g along the
-  solution by a central difference; Illinois secant or bisection when Newton leaves the
-  bracket), each trial a full Runge-Kutta step from the step's start, so the end state
+  solution exact for the overlap and time events, by a difference for the zero-force one;
+  Illinois secant or bisection when Newton leaves the bracket), each trial a full Runge-Kutta step from the step's start, so the end state
   carries the full order of the method; once the Newton correction d is below
   1e-2 sqrt(rtol) of the step, the end is the last trial extrapolated by d along the
   solution (error O(d^2), far below rtol) instead of one more trial.
