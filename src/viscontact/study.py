@@ -7,6 +7,7 @@ tables, figures and tests agree on them.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -17,6 +18,7 @@ from .collision import CollisionResult, collide
 from .dimensional import ImpactResult, hertz_limit, impact
 from .experiment import Ball, PhysicalCalibration, calibrate_ball, load_balls
 from .laws import STUDY_MODELS
+from .parallel import forked_map
 from .sweep import SweepResult, study_speeds, velocity_sweep
 
 __all__ = [
@@ -97,6 +99,14 @@ class StudyResults:
     speeds: np.ndarray = field(default_factory=lambda: study_speeds())
 
 
+def _drop_and_sweep(speeds: np.ndarray, job: tuple) -> tuple:
+    """(the drop at the measured speed, the velocity sweep) of one calibrated law."""
+    _key, m, v_in, cal = job
+    drop = impact(m, m_eff=cal.m_eff, k_hertz=cal.k_hertz, v=v_in, c=cal.c, tau=cal.tau)
+    sweep = velocity_sweep(m, speeds, m_eff=cal.m_eff, k_hertz=cal.k_hertz, c=cal.c, tau=cal.tau)
+    return drop, sweep
+
+
 def run_study(step: Callable[[str], None] | None = None, *, n_speeds: int = 24) -> StudyResults:
     """Solve everything the report needs (about 800 collisions).
 
@@ -125,14 +135,14 @@ def run_study(step: Callable[[str], None] | None = None, *, n_speeds: int = 24) 
 
     step(next(names))
     speeds = study_speeds(n_speeds)
+    # each calibrated law's drop and sweep (a few hundred solves with histories) on every core
+    jobs = [(key, m, b.v_in, cal) for key, b in balls.items() for m, cal in cals[key].items()]
+    results = dict(zip([job[:2] for job in jobs],
+                       forked_map(functools.partial(_drop_and_sweep, speeds), jobs)))
     studies = {}
     for key, b in balls.items():
-        drops, sweeps = {}, {}
-        for m, cal in cals[key].items():
-            drops[m] = impact(m, m_eff=cal.m_eff, k_hertz=cal.k_hertz, v=b.v_in, c=cal.c,
-                              tau=cal.tau)
-            sweeps[m] = velocity_sweep(m, speeds, m_eff=cal.m_eff, k_hertz=cal.k_hertz, c=cal.c,
-                                       tau=cal.tau)
+        drops = {m: results[key, m][0] for m in cals[key]}
+        sweeps = {m: results[key, m][1] for m in cals[key]}
         hertz = np.array([hertz_limit(b.m_eff, b.k_hertz, v) for v in speeds])
         studies[key] = BallStudy(ball=b, calibrations=cals[key], drops=drops, sweeps=sweeps,
                                  hertz_tc=hertz[:, 0], hertz_fmax=hertz[:, 2])

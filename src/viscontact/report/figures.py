@@ -7,16 +7,16 @@ Measured values are drawn in black.
 
 from __future__ import annotations
 
-import multiprocessing
+import functools
 import os
 from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 import numpy as np
 from matplotlib import colors as mcolors
 
 from ..laws import LAWS, STUDY_MODELS
+from ..parallel import forked_map
 from ..plotting import LAW_COLORS, LAW_MARKERS, plt
 from ..study import (
     ALPHA_REF, BETA_GRID, BETA_REF, FIG6_BETAS, PUBLISHED_E, TABLE1_MODELS, BallStudy, StudyResults,
@@ -309,7 +309,7 @@ FIGURES: dict[str, tuple[Callable[[StudyResults, Path], None], str]] = {
 }
 
 
-def _draw(res: StudyResults, name: str, out: Path) -> Path:
+def _draw(res: StudyResults, out: Path, name: str) -> Path:
     FIGURES[name][0](res, out / name)
     return out / name
 
@@ -319,21 +319,8 @@ def write_figures(res: StudyResults, out: Path, names: Sequence[str] | None = No
     """Draw the figures (all, or ``names``) into directory ``out``; returns the paths.
 
     Rendering dominates a report's run time, so the figures are drawn in ``workers`` forked
-    processes (default: one per core); ``tick(name)`` is called as each one is finished.
-    Where ``fork`` is not available (or ``workers=1``) they are drawn one after another.
+    processes (default: one per core; :func:`viscontact.parallel.forked_map`); ``tick(name)``
+    is called as each one is finished.
     """
-    names = list(names or FIGURES)
-    tick = tick or (lambda _name: None)
-    workers = min(os.cpu_count() or 1, len(names)) if workers is None else workers
-    if workers <= 1 or "fork" not in multiprocessing.get_all_start_methods():
-        paths = []
-        for name in names:
-            paths.append(_draw(res, name, out))
-            tick(name)
-        return paths
-    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork")) as pool:
-        futures = {pool.submit(_draw, res, name, out): name for name in names}
-        for fut in as_completed(futures):
-            fut.result()
-            tick(futures[fut])
-    return [out / name for name in names]
+    return forked_map(functools.partial(_draw, res, out), list(names or FIGURES),
+                      workers=workers, done=tick)
