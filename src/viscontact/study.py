@@ -101,7 +101,7 @@ class StudyResults:
 
 def _drop_and_sweep(speeds: np.ndarray, job: tuple) -> tuple:
     """(the drop at the measured speed, the velocity sweep) of one calibrated law."""
-    _key, m, v_in, cal = job
+    m, v_in, cal = job
     drop = impact(m, m_eff=cal.m_eff, k_hertz=cal.k_hertz, v=v_in, c=cal.c, tau=cal.tau)
     sweep = velocity_sweep(m, speeds, m_eff=cal.m_eff, k_hertz=cal.k_hertz, c=cal.c, tau=cal.tau)
     return drop, sweep
@@ -136,9 +136,9 @@ def run_study(step: Callable[[str], None] | None = None, *, n_speeds: int = 24) 
     step(next(names))
     speeds = study_speeds(n_speeds)
     # each calibrated law's drop and sweep (a few hundred solves with histories) on every core
-    jobs = [(key, m, b.v_in, cal) for key, b in balls.items() for m, cal in cals[key].items()]
-    results = dict(zip([job[:2] for job in jobs],
-                       forked_map(functools.partial(_drop_and_sweep, speeds), jobs)))
+    keys = [(key, m) for key in balls for m in cals[key]]
+    jobs = [(m, balls[key].v_in, cals[key][m]) for key, m in keys]
+    results = dict(zip(keys, forked_map(functools.partial(_drop_and_sweep, speeds), jobs)))
     studies = {}
     for key, b in balls.items():
         drops = {m: results[key, m][0] for m in cals[key]}

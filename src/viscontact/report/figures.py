@@ -8,7 +8,6 @@ Measured values are drawn in black.
 from __future__ import annotations
 
 import functools
-import os
 from collections.abc import Callable, Sequence
 from pathlib import Path
 

@@ -38,10 +38,6 @@ FIELDS = (
 _COMPONENTS = ("s", "v", "t", "w")
 
 
-def _coef(name: str, value: float) -> str:
-    return f"{name} = {value!r}"
-
-
 def source() -> str:
     """The text of :mod:`viscontact.solvers._dop853_lanes`."""
     ns = _dop853.N_STAGES
