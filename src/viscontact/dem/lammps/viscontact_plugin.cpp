@@ -8,7 +8,7 @@
 
 #include "fix_viscontact_history.h"
 #include "pair_viscontact.h"
-// WALL: #include "fix_wall_viscontact.h"
+#include "fix_wall_viscontact.h"
 
 using namespace LAMMPS_NS;
 
@@ -44,7 +44,10 @@ static Fix *fix_viscontact_history_creator(LAMMPS *lmp, int argc, char **argv)
   return new FixViscontactHistory(lmp, argc, argv);
 }
 
-// ---- WALL: fix viscontact/wall creator goes here ----
+static Fix *fix_wall_viscontact_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  return new FixWallViscontact(lmp, argc, argv);
+}
 
 void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
 {
@@ -68,5 +71,9 @@ void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_viscontact_history_creator;
   (*register_plugin)(&plugin, lmp);
 
-  // ---- WALL: register fix viscontact/wall here (plugin.style = "fix") ----
+  plugin.style = "fix";
+  plugin.name = "viscontact/wall";
+  plugin.info = "viscontact: plane and cylinder walls with the viscontact laws";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_wall_viscontact_creator;
+  (*register_plugin)(&plugin, lmp);
 }
