@@ -118,7 +118,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="replace a log written by an earlier 'dem run' (never any other file)")
     r.add_argument("--no-progress", action="store_true", help="no progress bar; show LAMMPS's screen output")
     r.add_argument("--json", action="store_true",
-                   help="print one JSON object: input, log, np, seconds, thermo columns and last row")
+                   help="print one JSON object (input, log, np, seconds, thermo columns and last "
+                   "row) and nothing else on stdout")
     r.set_defaults(handler=_one_line_errors(_run))
 
 
@@ -183,7 +184,7 @@ def _run(args: argparse.Namespace) -> int:
     if dup:
         raise ValueError(f"--var {dup[0]} given more than once")
     res = run_input(args.input, np=args.np, variables=dict(args.var), progress=not args.no_progress,
-                    log=args.log, force=args.force)
+                    log=args.log, force=args.force, quiet=args.json)
     rows = len(next(iter(res.thermo.values()))) if res.thermo else 0
     last = {k: float(v[-1]) for k, v in res.thermo.items()} if rows else {}
     if args.json:

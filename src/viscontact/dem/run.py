@@ -210,10 +210,10 @@ def _tail_log(log: Path, progress: _Progress, stop: threading.Event) -> None:
             return
 
 
-def _run_inprocess(wrapper: Path, log: Path, var_args: list[str], bar) -> None:
+def _run_inprocess(wrapper: Path, log: Path, var_args: list[str], bar, quiet: bool) -> None:
     from .plugin import new_lammps
 
-    args = ["-log", str(log), *var_args] + (["-screen", "none"] if bar is not None else [])
+    args = ["-log", str(log), *var_args] + (["-screen", "none"] if bar is not None or quiet else [])
     lmp = new_lammps(args, load_plugin=False)
     stop = threading.Event()
     tail = None
@@ -269,12 +269,14 @@ def _run_mpi(wrapper: Path, log: Path, nproc: int, var_args: list[str], bar, cwd
 def run_input(
     path: str | os.PathLike, *, np: int = 1, variables: Mapping[str, object] | None = None,
     progress: bool = True, log: str | os.PathLike | None = None, force: bool = False,
+    quiet: bool = False,
 ) -> RunResult:
     """Run the LAMMPS input ``path`` with the plugin loaded; its thermo output as arrays.
 
     ``np``: 1 runs in this process (``lammps`` module), N > 1 runs ``mpirun -np N lmp``.
     ``variables``: LAMMPS index variables (``-var NAME VALUE``), one word each.
-    ``progress``: a progress bar on stderr when it is a terminal.  ``log``: the log file
+    ``progress``: a progress bar on stderr when it is a terminal (LAMMPS's screen output is
+    then not shown; without the bar it goes to stdout unless ``quiet``).  ``log``: the log file
     (default ``INPUT.log`` beside the input); an existing one only if written by an earlier
     run and ``force`` (ValueError otherwise).  Raises :class:`LammpsError` (one line) when
     LAMMPS stops with an error, :class:`~viscontact.dem.plugin.PluginError` when the plugin
@@ -303,13 +305,13 @@ def run_input(
             cwd = os.getcwd()
             os.chdir(src.parent)  # relative paths in the input; restored below
             try:
-                _run_inprocess(wrapper, log_path, var_args, bar)
+                _run_inprocess(wrapper, log_path, var_args, bar, quiet)
             finally:
                 os.chdir(cwd)
             rc = 0
         else:
             rc = _run_mpi(wrapper, log_path, np, var_args, bar, src.parent,
-                          echo=None if bar is not None else sys.stdout.write)
+                          echo=None if bar is not None or quiet else sys.stdout.write)
     finally:
         wrapper.unlink(missing_ok=True)
         if bar is not None:
