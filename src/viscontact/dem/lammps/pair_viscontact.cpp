@@ -279,11 +279,15 @@ void PairViscontact::init_style()
       if (setflag[i][j] && (params[i][j].friction || params[i][j].law == vc::Law::Jian))
         need_history = 1;
   if (need_history && fix_history == nullptr) {
-    const std::string id = "VISCONTACT_HISTORY_" + std::to_string(instance_me);
+    // one fixed ID, so that read_restart re-attaches the per-atom history whatever the
+    // instance count of the run that wrote it
+    const std::string id = "VISCONTACT_HISTORY";
     Fix *f = modify->get_fix_by_id(id);
     if (!f) f = modify->add_fix(id + " all VISCONTACT_HISTORY");
     fix_history = dynamic_cast<FixViscontactHistory *>(f);
     if (!fix_history) fail(fmt::format("pair viscontact: fix ID {} is taken by another fix", id));
+    if (fix_history->pair && fix_history->pair != this)
+      fail("pair viscontact can be used once per simulation (not twice under pair hybrid)");
   }
   if (fix_history) {
     fix_history->pair = this;
