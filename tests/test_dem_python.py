@@ -323,9 +323,14 @@ def test_readers_on_real_lammps_output(tmp_path, nproc):
 
 
 # ----------------------------------------------------------------------------- running
-def _example(tmp_path: Path) -> Path:
+def _example(tmp_path: Path, final_dump: bool = False) -> Path:
+    """The README's input in ``tmp_path``; ``final_dump`` appends a full-precision dump of the
+    last step (the input's own dump writes every 5000 steps)."""
     dst = tmp_path / "in.settle"
     shutil.copy(EXAMPLE, dst)
+    if final_dump:
+        with open(dst, "a") as fh:
+            fh.write("write_dump all custom final.dump id x y z vz modify format float %.17g\n")
     return dst
 
 
@@ -333,7 +338,7 @@ def _example(tmp_path: Path) -> Path:
 def test_readme_example_runs_the_same_on_1_and_2_ranks(tmp_path):
     """The README's input, a few hundred steps in-process and with mpirun -np 2: the same thermo
     (%.15g, printed by the input) and dump; a log the run owns, replaced only with force."""
-    src = _example(tmp_path)
+    src = _example(tmp_path, final_dump=True)
     one = dem.run_input(src, np=1, variables={"steps": 300}, progress=False)
     assert one.log_path == tmp_path / "in.settle.log" and one.returncode == 0
     assert not (tmp_path / "log.lammps").exists()
@@ -341,15 +346,20 @@ def test_readme_example_runs_the_same_on_1_and_2_ranks(tmp_path):
     assert (one.thermo["Atoms"] == 1000).all()
     ke = one.thermo["KinEng"]
     assert ke[-1] < ke[0]  # collisions dissipate (gravity adds less in 3 ms)
-    dump1 = dem.read_dump(tmp_path / "settle.dump")
+    dump1 = dem.read_dump(tmp_path / "settle.dump") + dem.read_dump(tmp_path / "final.dump")
+    assert [f.step for f in dump1] == [0, 300]
     with pytest.raises(ValueError, match="force"):
         dem.run_input(src, np=2, variables={"steps": 300}, progress=False)
     two = dem.run_input(src, np=2, variables={"steps": 300}, progress=False, force=True)
     assert two.np == 2 and list(two.thermo) == list(one.thermo)
     for name in one.thermo:
         np.testing.assert_allclose(two.thermo[name], one.thermo[name], rtol=1e-10, atol=0)
-    dump2 = dem.read_dump(tmp_path / "settle.dump")
-    np.testing.assert_allclose(dump2[-1]["z"], dump1[-1]["z"], rtol=1e-10, atol=0)
+    dump2 = dem.read_dump(tmp_path / "settle.dump") + dem.read_dump(tmp_path / "final.dump")
+    # create_atoms numbers atoms rank by rank: match them through their lattice sites at step 0
+    for col in ("x", "y", "z", "vz"):
+        a1, a2 = (d[-1][col][np.lexsort((d[0]["x"], d[0]["y"], d[0]["z"]))] for d in (dump1, dump2))
+        np.testing.assert_allclose(a2, a1, rtol=1e-10, atol=1e-14)
+    assert np.abs(dump1[-1]["z"] - dump1[0]["z"]).max() > 1e-4  # they moved
     assert dump1[-1]["z"].min() > 0.004  # nobody fell through the floor
 
 
@@ -425,3 +435,16 @@ def test_cli_plugin_coeff_and_run(tmp_path):
     proc = run_cli("dem", "run", bad)
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
     assert proc.stderr.startswith("viscontact dem: error: ERROR: Unknown command") and proc.stderr.count("\n") == 1
+
+
+def test_readme_shows_the_example_input():
+    """The README's complete input is the example file the tests run (less its comment header)."""
+    readme = Path(__file__).resolve().parents[1] / "README.md"
+    if not readme.is_file():
+        pytest.skip("no README.md beside the tests (installed package)")
+    text = readme.read_text()
+    section = text[text.index("## Many-particle DEM with LAMMPS"):]
+    block = re.search(r"```\n(units .*?)```", section, re.S).group(1)
+    example = EXAMPLE.read_text()
+    body = example[example.index("units "):]
+    assert block == body
