@@ -15,8 +15,8 @@ From those samples (no knowledge of the force law is used):
   * end: ``end overlap`` -- delta crosses 0 again (linear interpolation); ``end force`` -- the
     (clamped) force reaches 0: the zero crossing of the straight line through the last two
     positive force samples (the force crosses 0 with a non-zero slope when p < 3/2; for
-    p >= 3/2, F = delta^(3/2) (k + c delta^(p-3/2) delta') vanishes only with delta, so the
-    overlap crossing is used);
+    p >= 3/2, F = delta^(3/2) (k + c delta^(p-3/2) delta') vanishes only with delta, and so does
+    the undamped force: then the overlap crossing is used);
   * t_c = end - start; F_max, delta_max: the largest sample, refined by the parabola through
     it and its two neighbours; e = normal separation speed after the contact (when no force
     acts any more) / normal approach speed.
@@ -24,6 +24,8 @@ From those samples (no knowledge of the force law is used):
 
 from __future__ import annotations
 
+import ctypes
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -52,6 +54,7 @@ class Shot:
     geometry: str
     v: float
     angle: float = 0.0
+    phase: float | None = None        # overrides Setup.phase
 
 
 @dataclass
@@ -85,6 +88,8 @@ class Setup:
     steps_per_tc: float = 1000.0      # dt = (shortest Hertz t_c of the shots) / steps_per_tc
     lead: float = 0.05                # the approach takes about lead * t_c ...
     phase: float = 0.5                # ... and contact begins this fraction of a step after a step
+    exact_grid: bool = False          # dt = (shortest exact t_c) / steps_per_tc: one shot per
+                                      # run then starts and ends its exact contact at one phase
     extra: list[str] = field(default_factory=list)
 
 
@@ -122,7 +127,10 @@ def run(setup: Setup) -> list[Measured]:
                             wall=setup.wall)
     eff = [effective(setup, s) for s in setup.shots]
     tcs = [hertz_tc(m, k, s.v) for (m, _, k), s in zip(eff, setup.shots)]
-    dt = min(tcs) / setup.steps_per_tc
+    if setup.exact_grid:
+        dt = min(exact(setup, s).tc for s in setup.shots) / setup.steps_per_tc
+    else:
+        dt = min(tcs) / setup.steps_per_tc
     spacing = 6.0 * R
     npair = sum(s.geometry == "pair" for s in setup.shots)
     nwall = len(setup.shots) - npair
@@ -132,10 +140,13 @@ def run(setup: Setup) -> list[Measured]:
     index = []            # per shot: atom indices
     ip = iw = 0
     for s, (m_eff, r_eff, k), tc in zip(setup.shots, eff, tcs):
-        # contact begins at t = (n0 + phase) dt for every dt: the same phase of the contact start
-        # on the step grid at every step size (a law whose force jumps at contact, such as LH,
-        # otherwise adds an O(dt) error that depends on that phase and hides the order)
-        gap = (math.floor(setup.lead * tc / dt) + setup.phase) * dt * s.v
+        # Contact begins at t = (n0 + phase) dt at every dt: the same phase of the contact
+        # start on the step grid at every step size.  A law whose force jumps where the contact
+        # begins or ends (LH, and Ts steeply) has an O(dt) error that depends on those phases
+        # and hides the order unless they are held fixed (exact_grid: the exact end falls at
+        # the same phase as the start).
+        phase = setup.phase if s.phase is None else s.phase
+        gap = (math.floor(setup.lead * tc / dt) + float(phase)) * dt * s.v
         if s.geometry == "pair":
             y = -half + spacing * (ip + 1)
             ip += 1
@@ -173,33 +184,41 @@ def run(setup: Setup) -> list[Measured]:
                  "run 0"]
         for c in cmds:
             lmp.command(c)
-        xs, vs, fs, ws = [], [], [], []
+        natoms = len(atoms)
+        views = {}
 
-        def sample():
-            xs.append(np.array(lmp.numpy.extract_atom("x")[: len(atoms)]))
-            vs.append(np.array(lmp.numpy.extract_atom("v")[: len(atoms)]))
-            fs.append(np.array(lmp.numpy.extract_atom("f")[: len(atoms)]))
-            ws.append(np.array(lmp.numpy.extract_atom("omega")[: len(atoms)]))
+        def view(name):
+            # numpy views on LAMMPS's per-atom arrays, taken again only if LAMMPS reallocated
+            # them (the address of the first row changes)
+            ptr = lmp.extract_atom(name)
+            addr = ctypes.cast(ptr[0], ctypes.c_void_p).value
+            if name not in views or views[name][0] != addr:
+                views[name] = (addr, lmp.numpy.extract_atom(name))
+            return views[name][1][:natoms]
 
-        sample()
+        xs, fs = [view("x").copy()], [view("f").copy()]
+        v0, w0 = view("v").copy(), view("omega").copy()
         # run until every contact is over: at least (lead + 2.5) t_c, then until all overlaps
         # are negative (attraction with `end overlap` lengthens a contact)
         nmin = int(math.ceil((setup.lead + 2.5) * longest / dt))
         n = 0
         while True:
             lmp.command("run 1 pre no post no")
-            sample()
+            xs.append(view("x").copy())
+            fs.append(view("f").copy())
             n += 1
             if n >= nmin and n % 100 == 0:
-                if _all_open(np.array(xs[-1]), index, setup, R):
+                if _all_open(xs[-1], index, setup, R):
                     break
             if n > 50 * nmin:
                 raise RuntimeError("a contact did not end within 50 contact times")
+        v1, w1 = view("v").copy(), view("omega").copy()
     finally:
         lmp.close()
-    X, V, F, W = (np.array(a) for a in (xs, vs, fs, ws))
+    X, F = np.array(xs), np.array(fs)
     t = dt * np.arange(len(X))
-    return [_measure(setup, s, idx, e3, t, X, V, F, W) for s, idx, e3 in zip(setup.shots, index, eff)]
+    return [_measure(setup, s, idx, e3, t, X, F, (v0, v1), (w0, w1))
+            for s, idx, e3 in zip(setup.shots, index, eff)]
 
 
 def _all_open(x: np.ndarray, index, setup: Setup, R: float) -> bool:
@@ -230,7 +249,9 @@ def _peak(t: np.ndarray, y: np.ndarray) -> float:
     return float(b - 0.25 * (a - c) * s)
 
 
-def _measure(setup: Setup, shot: Shot, idx, eff, t, X, V, F, W) -> Measured:
+def _measure(setup: Setup, shot: Shot, idx, eff, t, X, F, V, W) -> Measured:
+    """Measure one shot from the samples X, F (every step) and the velocities V and angular
+    velocities W (before, after)."""
     m_eff, r_eff, k = eff
     R = setup.radius
     if shot.geometry == "pair":
@@ -240,15 +261,15 @@ def _measure(setup: Setup, shot: Shot, idx, eff, t, X, V, F, W) -> Measured:
         nrm = d_vec / dist[:, None]                   # from b to a
         delta = 2 * R - dist
         force = np.einsum("ij,ij->i", F[:, a], nrm)   # > 0: repulsion
-        vn = np.einsum("ij,ij->i", V[:, a] - V[:, b], nrm)    # < 0 approaching
+        vn_out = float(np.dot(V[1][a] - V[1][b], nrm[-1]))   # > 0 separating
         vt_in = vt_out = spin = 0.0
     else:
         (a,) = idx
         delta = R - X[:, a, 2]
         force = F[:, a, 2]
-        vn = V[:, a, 2]
-        vt_in, vt_out = V[0, a, 0], V[-1, a, 0]
-        spin = W[-1, a, 1]
+        vn_out = V[1][a, 2]
+        vt_in, vt_out = V[0][a, 0], V[1][a, 0]
+        spin = W[1][a, 1]
     inside = np.nonzero(delta > 0)[0]
     if len(inside) == 0:
         raise RuntimeError(f"{shot}: no contact")
@@ -258,7 +279,9 @@ def _measure(setup: Setup, shot: Shot, idx, eff, t, X, V, F, W) -> Measured:
         raise RuntimeError(f"{shot}: the contact did not end")
     i1 = i0 + after[0]                                # first open sample
     start = _crossing(t, delta, i0)
-    if setup.law.end == "overlap" or setup.law.p >= 1.5:
+    law = setup.law
+    elastic = (law.c0 == 0.0) if law.c0 is not None else (law.alpha == 0.0)
+    if law.end == "overlap" or law.p >= 1.5 or elastic:
         end = _crossing(t, delta, i1)
     else:
         zero = np.nonzero(force[i0:i1 + 1] <= 0)[0]
@@ -267,24 +290,28 @@ def _measure(setup: Setup, shot: Shot, idx, eff, t, X, V, F, W) -> Measured:
             raise RuntimeError(f"{shot}: too few force samples before the force end")
         end = _crossing(t, force, j) if force[j] < 0 else (
             t[j - 1] + (t[j - 1] - t[j - 2]) * force[j - 1] / (force[j - 2] - force[j - 1]))
-    e = abs(vn[-1]) / shot.v
+    e = vn_out / shot.v
     return Measured(shot=shot, m_eff=m_eff, r_eff=r_eff, k_hertz=k, e=float(e),
                     tc=float(end - start), fmax=_peak(t, force), dmax=_peak(t, delta),
                     vt_in=float(vt_in), vt_out=float(vt_out), spin_out=float(spin),
                     steps_in_contact=int(i1 - i0))
 
 
-def exact(setup: Setup, m: Measured) -> vc.dimensional.ImpactResult:
+def exact(setup: Setup, shot: Shot) -> vc.dimensional.ImpactResult:
     """The exact single collision (``viscontact.impact``) with this shot's m*, k_Hertz and the
     c0, tau that the law's FORM gives for them (SPEC section 3; computed here by
     ``viscontact.damping_coefficient`` / ``time_scale``, not by the plugin)."""
     law = setup.law
+    m_eff, _, k = effective(setup, shot)
     p = law.p if law.law == "power" else None
     if law.c0 is not None:
         c, tau = law.c0, law.tau
     else:
-        c = vc.damping_coefficient(law.law, law.alpha, m_eff=m.m_eff, k_hertz=m.k_hertz,
-                                   v=law.vref, p=p)
-        tau = None if law.beta is None else law.beta * vc.time_scale(m.m_eff, m.k_hertz, law.vref)
-    return vc.impact(law.law, m_eff=m.m_eff, k_hertz=m.k_hertz, v=m.shot.v, c=c, tau=tau, p=p,
-                     end=law.end)
+        c = vc.damping_coefficient(law.law, law.alpha, m_eff=m_eff, k_hertz=k, v=law.vref, p=p)
+        tau = None if law.beta is None else law.beta * vc.time_scale(m_eff, k, law.vref)
+    return _impact(law.law, m_eff, k, shot.v, c, tau, p, law.end)
+
+
+@functools.lru_cache(maxsize=4096)
+def _impact(model, m_eff, k, v, c, tau, p, end):
+    return vc.impact(model, m_eff=m_eff, k_hertz=k, v=v, c=c, tau=tau, p=p, end=end)
