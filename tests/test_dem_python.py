@@ -364,6 +364,31 @@ def test_readme_example_runs_the_same_on_1_and_2_ranks(tmp_path):
 
 
 @needs_lammps
+@pytest.mark.parametrize("law,extra", [("LH", {}), ("Ts", {}), ("Li", {}), ("Hunt", {}),
+                                       ("Jian", {"beta": 0.5}), ("power", {"p": 0.75})])
+def test_readme_example_with_every_law_on_1_and_2_ranks(tmp_path, law, extra):
+    """The README's input with its three contact lines replaced by dem.coeff_lines for each other
+    law (KK is the input itself): 1 and 2 ranks give the same thermo, and the pack loses energy."""
+    lines = dem.coeff_lines(dem.contact_law(law, e=0.8, vref=0.5, **extra), E=1e7, nu=0.3,
+                            friction=0.5, wall="rigid")
+    text = EXAMPLE.read_text().splitlines()
+    out = []
+    for ln in text:
+        if ln.startswith(("pair_style", "pair_coeff", "fix             vcwall")):
+            ln = {"pair_style": lines.pair_style, "pair_coeff": lines.pair_coeff,
+                  "fix": lines.wall_fix}[ln.split()[0]]
+        out.append(ln)
+    assert sum(a.split() != b.split() for a, b in zip(out, text)) == 2  # pair_coeff, wall fix
+    src = tmp_path / "in.settle"
+    src.write_text("\n".join(out) + "\n")
+    one = dem.run_input(src, np=1, variables={"steps": 200}, progress=False, quiet=True)
+    two = dem.run_input(src, np=2, variables={"steps": 200}, progress=False, quiet=True, force=True)
+    for name in one.thermo:
+        np.testing.assert_allclose(two.thermo[name], one.thermo[name], rtol=1e-10, atol=0)
+    assert one.thermo["KinEng"][-1] < one.thermo["KinEng"][0]
+
+
+@needs_lammps
 @pytest.mark.parametrize("nproc", [1, 2])
 def test_lammps_error_is_one_line(tmp_path, nproc):
     src = tmp_path / "in.bad"
