@@ -19,7 +19,7 @@ using namespace FixConst;
 
 FixViscontactHistory::FixViscontactHistory(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), pair(nullptr), drop_history(0), dnum(viscontact::HISTORY_SIZE),
-    list_valid(false), maxpartner(0)
+    list_valid(false), partners_current(true), maxpartner(0)
 {
   if (narg != 3) error->all(FLERR, "fix VISCONTACT_HISTORY is internal to pair viscontact");
   restart_peratom = 1;
@@ -80,10 +80,11 @@ void FixViscontactHistory::update_maxexchange()
   maxexchange = 1 + (dnum + 1) * maxpartner;
 }
 
-/* Per-neighbour arrays -> per-atom partner lists (both atoms of every touching contact). */
-void FixViscontactHistory::pre_exchange()
+/* Per-neighbour arrays -> per-atom partner lists (both atoms of every touching contact).
+   Needs the per-neighbour arrays to match the current atom order (list_valid). */
+void FixViscontactHistory::store_partners()
 {
-  if (!list_valid) return;    // nothing newer than the partner lists (e.g. after post_run)
+  if (!list_valid) return;
   NeighList *list = pair->list;
   const int nall = atom->nlocal + atom->nghost;
   const int nclear = newton_pair ? nall : atom->nlocal;
@@ -107,24 +108,40 @@ void FixViscontactHistory::pre_exchange()
   if (newton_pair) comm->reverse_comm_variable(this);
   for (int i = nlocal; i < nclear; i++) store[i].clear();
   update_maxexchange();
-  list_valid = false;    // atoms move next: the per-neighbour arrays no longer match
+  partners_current = true;
 }
 
+/* During a run, before atoms migrate: afterwards the per-neighbour arrays are stale until the
+   next build refills them (post_neighbor). */
+void FixViscontactHistory::pre_exchange()
+{
+  store_partners();
+  list_valid = false;
+}
+
+/* End of every run: partner lists current (for write_restart, or commands that add or delete
+   atoms); the per-neighbour arrays stay in use for a following `run ... pre no`. */
 void FixViscontactHistory::post_run()
 {
-  pre_exchange();
+  store_partners();
 }
 
+/* Every run's start: the run will change the per-neighbour history. */
+void FixViscontactHistory::setup(int /*vflag*/)
+{
+  partners_current = false;
+}
+
+/* Global restart hook, called when a restart file is written: during a run the partner lists
+   are brought up to date; after a run they already are (and the write_restart command has
+   moved atoms since, so the per-neighbour arrays must not be read). */
 void FixViscontactHistory::write_restart(FILE *fp)
 {
-  const bool was_valid = list_valid;
-  pre_exchange();    // a restart written during a run: current contacts into partner lists
+  if (!partners_current) store_partners();
   if (comm->me == 0) {
     int size = 0;
     fwrite(&size, sizeof(int), 1, fp);
   }
-  // during a run the per-neighbour arrays stay current: keep using them
-  list_valid = was_valid;
 }
 
 void FixViscontactHistory::setup_post_neighbor()
@@ -169,6 +186,7 @@ void FixViscontactHistory::post_neighbor()
     }
   }
   list_valid = true;
+  partners_current = false;
 }
 
 void FixViscontactHistory::grow_arrays(int nmax)

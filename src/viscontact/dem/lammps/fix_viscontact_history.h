@@ -31,6 +31,7 @@ class FixViscontactHistory : public Fix {
   void setup_post_neighbor() override;
   void pre_exchange() override;
   void post_neighbor() override;
+  void setup(int) override;
   void post_run() override;
   void min_pre_exchange() override { pre_exchange(); }
   void min_post_neighbor() override { post_neighbor(); }
@@ -67,9 +68,11 @@ class FixViscontactHistory : public Fix {
   std::vector<long> offset;                  // per atom i of the list: first entry index
   std::vector<char> pairflag;
   std::vector<double> pairval;
-  bool list_valid;    // per-neighbour arrays match the current list and atom order
+  bool list_valid;          // per-neighbour arrays match the current list and atom order
+  bool partners_current;    // partner lists hold everything the per-neighbour arrays do
   int maxpartner;
 
+  void store_partners();
   void add_partner(int i, double tag, const double *v, double sign);
   void update_maxexchange();
 };

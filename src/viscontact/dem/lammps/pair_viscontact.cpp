@@ -2,6 +2,7 @@
    This file is part of viscontact.  Compiled into a LAMMPS plugin it links GPL-2 LAMMPS. */
 
 #include "pair_viscontact.h"
+#include "viscontact_keywords.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -15,15 +16,12 @@
 #include "update.h"
 #include "utils.h"
 
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 
 using namespace LAMMPS_NS;
 namespace vc = viscontact;
-
-static const char *LAWS = "LH Ts KK Li Hunt Jian power";
 
 PairViscontact::PairViscontact(LAMMPS *lmp) :
     Pair(lmp), params(nullptr), Ein(nullptr), nuin(nullptr), drop_history(0), need_history(0),
@@ -87,147 +85,35 @@ void PairViscontact::settings(int narg, char **arg)
   }
 }
 
-/* A finite number or one clear error. */
-static bool parse_number(const char *s, double &v)
-{
-  if (!s || !*s) return false;
-  char *end = nullptr;
-  errno = 0;
-  v = std::strtod(s, &end);
-  return end && *end == '\0' && errno == 0 && std::isfinite(v);
-}
-
+/* pair_coeff I J hertz/material E NU <law keywords>; the law keywords (damping LAW [p P] FORM
+   [end force|overlap] tangential TANG) are parsed by viscontact_keywords.h, shared with fix
+   viscontact/wall.  Every mistake: one error line naming the keyword and what is allowed. */
 void PairViscontact::parse_coeff(int narg, char **arg, vc::LawParams &lp, double &E, double &nu)
 {
-  auto number = [&](int idx, const char *what) {
-    if (idx >= narg) fail(fmt::format("pair viscontact: keyword '{}' needs a value", what));
-    double v;
-    if (!parse_number(arg[idx], v))
-      fail(fmt::format("pair viscontact: {} must be a finite number, got '{}'", what, arg[idx]));
-    return v;
-  };
-  auto nonneg = [&](int idx, const char *what) {
-    const double v = number(idx, what);
-    if (v < 0.0) fail(fmt::format("pair viscontact: {} must be >= 0, got {}", what, arg[idx]));
-    return v;
-  };
-
-  if (narg < 3 || strcmp(arg[2], "hertz/material") != 0)
+  std::vector<std::string> args(arg, arg + narg);
+  if (narg < 3 || args[2] != "hertz/material")
     fail(fmt::format("pair viscontact: expected 'hertz/material E NU' after the two types, got "
                      "'{}'", narg < 3 ? "" : arg[2]));
   if (narg < 5) fail("pair viscontact: hertz/material needs two values, E and NU");
-  E = number(3, "E");
-  if (!(E > 0.0)) fail(fmt::format("pair viscontact: E must be > 0 (Pa), got {}", arg[3]));
-  nu = number(4, "NU");
-  if (!(nu > -1.0 && nu <= 0.5))
+  std::string err = vc::parse_number("E (Pa)", args[3], true, E);
+  if (!err.empty()) fail("pair viscontact: " + err);
+  char *end = nullptr;
+  nu = std::strtod(arg[4], &end);
+  if (end == arg[4] || *end != '\0' || !(nu > -1.0 && nu <= 0.5))
     fail(fmt::format("pair viscontact: nu must be in (-1, 0.5], got {}", arg[4]));
-  if (narg < 6 || strcmp(arg[5], "damping") != 0)
-    fail(fmt::format("pair viscontact: expected 'damping LAW' after hertz/material E NU, got '{}' "
-                     "(LAW one of {})", narg < 6 ? "" : arg[5], LAWS));
-  if (narg < 7) fail(fmt::format("pair viscontact: damping needs a law ({})", LAWS));
-  if (!vc::parse_law(arg[6], lp.law))
-    fail(fmt::format("pair viscontact: unknown damping law '{}' (allowed: {})", arg[6], LAWS));
 
-  bool has_p = false, has_alpha = false, has_vref = false, has_beta = false, has_c0 = false,
-       has_tau = false, has_end = false, has_tang = false;
-  double p = 0.0;
-  auto once = [&](bool &flag, const char *kw) {
-    if (flag) fail(fmt::format("pair viscontact: keyword '{}' given twice", kw));
-    flag = true;
-  };
-  int iarg = 7;
-  while (iarg < narg) {
-    const char *kw = arg[iarg];
-    if (strcmp(kw, "p") == 0) {
-      once(has_p, kw);
-      p = nonneg(iarg + 1, "p");
-      iarg += 2;
-    } else if (strcmp(kw, "alpha") == 0) {
-      once(has_alpha, kw);
-      lp.alpha = nonneg(iarg + 1, "alpha");
-      iarg += 2;
-    } else if (strcmp(kw, "vref") == 0) {
-      once(has_vref, kw);
-      lp.vref = number(iarg + 1, "vref");
-      if (!(lp.vref > 0.0))
-        fail(fmt::format("pair viscontact: vref must be > 0 (m/s), got {}", arg[iarg + 1]));
-      iarg += 2;
-    } else if (strcmp(kw, "beta") == 0) {
-      once(has_beta, kw);
-      lp.beta = nonneg(iarg + 1, "beta");
-      iarg += 2;
-    } else if (strcmp(kw, "c0") == 0) {
-      once(has_c0, kw);
-      lp.c0 = nonneg(iarg + 1, "c0");
-      iarg += 2;
-    } else if (strcmp(kw, "tau") == 0) {
-      once(has_tau, kw);
-      lp.tau = nonneg(iarg + 1, "tau");
-      iarg += 2;
-    } else if (strcmp(kw, "end") == 0) {
-      once(has_end, kw);
-      if (iarg + 1 >= narg) fail("pair viscontact: keyword 'end' needs a value (force or overlap)");
-      if (strcmp(arg[iarg + 1], "force") == 0)
-        lp.clamp = true;
-      else if (strcmp(arg[iarg + 1], "overlap") == 0)
-        lp.clamp = false;
-      else
-        fail(fmt::format("pair viscontact: end must be 'force' or 'overlap', got '{}'",
-                         arg[iarg + 1]));
-      iarg += 2;
-    } else if (strcmp(kw, "tangential") == 0) {
-      once(has_tang, kw);
-      if (iarg + 1 >= narg)
-        fail("pair viscontact: keyword 'tangential' needs 'none' or 'mindlin MU'");
-      if (strcmp(arg[iarg + 1], "none") == 0) {
-        lp.friction = false;
-        lp.mu = 0.0;
-        iarg += 2;
-      } else if (strcmp(arg[iarg + 1], "mindlin") == 0) {
-        lp.friction = true;
-        if (iarg + 2 >= narg) fail("pair viscontact: keyword 'mindlin' needs a value (MU >= 0)");
-        lp.mu = nonneg(iarg + 2, "mu");
-        iarg += 3;
-      } else {
-        fail(fmt::format("pair viscontact: tangential must be 'none' or 'mindlin MU', got '{}'",
-                         arg[iarg + 1]));
-      }
-    } else {
-      fail(fmt::format("pair viscontact: unknown keyword '{}' (allowed after damping LAW: p, "
-                       "alpha, vref, beta, c0, tau, end, tangential)", kw));
-    }
+  vc::LawKeywords kw;
+  size_t i = 5;
+  while (i < args.size()) {
+    if (!kw.take(args, i, err))
+      fail(fmt::format("pair viscontact: unknown keyword '{}' (allowed after hertz/material E NU: "
+                       "damping LAW [p P] alpha A vref V [beta B] | c0 C [tau S], end force|overlap, "
+                       "tangential none|mindlin MU)", args[i]));
+    if (!err.empty()) fail("pair viscontact: " + err);
   }
-
-  const char *name = vc::law_name(lp.law);
-  if (lp.law == vc::Law::Power) {
-    if (!has_p) fail("pair viscontact: damping power needs 'p P' (P >= 0)");
-    lp.p = p;
-  } else {
-    if (has_p)
-      fail(fmt::format("pair viscontact: p is only for damping power (law {} has p = {})", name,
-                       vc::law_exponent(lp.law)));
-    lp.p = vc::law_exponent(lp.law);
-  }
-  const bool jian = lp.law == vc::Law::Jian;
-  if (has_alpha && has_c0)
-    fail("pair viscontact: give the damping either as 'alpha A vref V' or as 'c0 C', not both");
-  if (!has_alpha && !has_c0)
-    fail(fmt::format("pair viscontact: damping {} needs 'alpha A vref V{}' or 'c0 C{}'", name,
-                     jian ? " beta B" : "", jian ? " tau S" : ""));
-  lp.by_alpha = has_alpha;
-  if (has_beta && !jian) fail(fmt::format("pair viscontact: beta is only for damping Jian, not {}", name));
-  if (has_tau && !jian) fail(fmt::format("pair viscontact: tau is only for damping Jian, not {}", name));
-  if (has_alpha) {
-    if (!has_vref) fail("pair viscontact: alpha needs 'vref V' (the impact speed where it applies, m/s)");
-    if (has_tau) fail("pair viscontact: with 'alpha A vref V' Jian takes 'beta B', not tau");
-    if (jian && !has_beta) fail("pair viscontact: damping Jian with alpha needs 'beta B' (B >= 0)");
-  } else {
-    if (has_vref) fail("pair viscontact: vref goes with alpha; 'c0 C' needs no vref");
-    if (has_beta) fail("pair viscontact: with 'c0 C' Jian takes 'tau S' (s), not beta");
-    if (jian && !has_tau) fail("pair viscontact: damping Jian with c0 needs 'tau S' (S >= 0, s)");
-  }
-  if (!has_tang)
-    fail("pair viscontact: missing 'tangential none' or 'tangential mindlin MU'");
+  err = kw.finish();
+  if (!err.empty()) fail("pair viscontact: " + err);
+  lp = kw.lp;
   lp.Estar = vc::mix_Estar(E, nu, E, nu);
   lp.Gstar = vc::mix_Gstar(E, nu, E, nu);
 }
