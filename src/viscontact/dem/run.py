@@ -164,7 +164,8 @@ def _make_bar(progress: bool):
         return None
     from tqdm import tqdm
 
-    return tqdm(total=None, unit="step", file=sys.stderr, dynamic_ncols=True, leave=True)
+    # delay: nothing is drawn for inputs that finish within half a second
+    return tqdm(total=None, unit="step", file=sys.stderr, dynamic_ncols=True, leave=True, delay=0.5)
 
 
 def _wrapper(plugin: Path, input_path: Path) -> str:
