@@ -123,8 +123,8 @@ def test_chung_ooi_2_sphere_on_rigid_plane(material):
     assert abs(err[2]) < TOL and abs(err[3]) < 1e-9, err
 
 
-@pytest.mark.parametrize("material", [dc.Material(380e9, 0.23, 4000), dc.Material(100e9, 0.25, 7000)],
-                         ids=["Al-oxide", "cast-iron"])
+@pytest.mark.parametrize("material", [dc.Material(380e9, 0.23, 4000),
+                                      dc.Material(100e9, 0.25, 7000)], ids=["Al-oxide", "cast-iron"])
 @pytest.mark.parametrize("name", list(LAWS))
 def test_chung_ooi_3_measured_e_is_input_e(name, material):
     # R = 2.5 mm at 3.9 m/s on a plane of the same material; each law calibrated exactly to
