@@ -308,7 +308,7 @@ void PairViscontact::compute(int eflag, int vflag)
       double ft[3] = {0.0, 0.0, 0.0};
       if (lp.friction) {
         const double kt = vc::mindlin_stiffness(lp.Gstar, reff, delta);
-        vc::mindlin_tangential(hc, n, vtr, dt, kt, lp.mu * std::fabs(fn), ft);
+        vc::mindlin_tangential(hc, n, vtr, dt, kt, lp.mu * std::fabs(fn), ft, history_update);
       }
 
       const double fx = fn * n[0] + ft[0];

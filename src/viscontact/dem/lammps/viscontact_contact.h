@@ -227,12 +227,14 @@ inline double relative_tangential_velocity(const double vr[3], const double wr[3
 }
 
 /// Mindlin tangential step (see above): updates xi in place, writes F_t on body i into ft.
+/// advance = false (the force computation of a run's setup, as LAMMPS granular's
+/// history_update = 0): steps 1-2 are skipped, F_t comes from xi as it is (still limited).
 inline void mindlin_tangential(double xi[3], const double n[3], const double vtr[3], double dt,
-                               double kt, double fn_limit, double ft[3])
+                               double kt, double fn_limit, double ft[3], bool advance = true)
 {
   const double EPS = 1e-10;
   const double rsht = xi[0] * n[0] + xi[1] * n[1] + xi[2] * n[2];
-  if (std::fabs(rsht) * kt > EPS * fn_limit) {
+  if (advance && std::fabs(rsht) * kt > EPS * fn_limit) {
     const double shrmag = std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
     xi[0] -= rsht * n[0];
     xi[1] -= rsht * n[1];
@@ -243,9 +245,11 @@ inline void mindlin_tangential(double xi[3], const double n[3], const double vtr
     xi[1] *= scale;
     xi[2] *= scale;
   }
-  xi[0] += dt * vtr[0];
-  xi[1] += dt * vtr[1];
-  xi[2] += dt * vtr[2];
+  if (advance) {
+    xi[0] += dt * vtr[0];
+    xi[1] += dt * vtr[1];
+    xi[2] += dt * vtr[2];
+  }
   ft[0] = -kt * xi[0];
   ft[1] = -kt * xi[1];
   ft[2] = -kt * xi[2];
