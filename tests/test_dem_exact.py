@@ -106,12 +106,11 @@ def hertz_errors(setup: dc.Setup) -> np.ndarray:
 @pytest.mark.parametrize("material", [dc.Material(48e9, 0.20, 2800), dc.Material(20e9, 0.25, 2500)],
                          ids=["glass", "limestone"])
 def test_chung_ooi_1_two_spheres_elastic(material):
-    # R = 10 mm at +-10 m/s; velocity Verlet is second order for the elastic contact
-    # (delta_max, F_max, e), t_c from the overlap crossings within 1e-3 at t_c/1000
+    # R = 10 mm at +-10 m/s; velocity Verlet is second order for the elastic contact: at
+    # t_c/1000 delta_max, F_max, t_c within 1e-5 (measured 4e-7 to 7e-7), e = 1 to 1e-9
     err = hertz_errors(dc.Setup(ELASTIC, material, 0.010, [dc.Shot("pair", 20.0)],
                                 steps_per_tc=1000))[0]
-    assert np.all(np.abs(err[:2]) < 1e-5), err
-    assert abs(err[2]) < TOL and abs(err[3]) < 1e-9, err
+    assert np.all(np.abs(err[:3]) < 1e-5) and abs(err[3]) < 1e-9, err
 
 
 @pytest.mark.parametrize("material", [dc.Material(70e9, 0.30, 2699), dc.Material(40e9, 0.35, 1800)],
@@ -119,8 +118,7 @@ def test_chung_ooi_1_two_spheres_elastic(material):
 def test_chung_ooi_2_sphere_on_rigid_plane(material):
     err = hertz_errors(dc.Setup(ELASTIC, material, 0.10, [dc.Shot("wall", 0.2)], wall="rigid",
                                 steps_per_tc=1000))[0]
-    assert np.all(np.abs(err[:2]) < 1e-5), err
-    assert abs(err[2]) < TOL and abs(err[3]) < 1e-9, err
+    assert np.all(np.abs(err[:3]) < 1e-5) and abs(err[3]) < 1e-9, err
 
 
 @pytest.mark.parametrize("material", [dc.Material(380e9, 0.23, 4000),

