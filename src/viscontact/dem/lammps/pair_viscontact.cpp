@@ -18,6 +18,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstdint>
 #include <cstring>
 
 using namespace LAMMPS_NS;
@@ -156,6 +157,7 @@ void PairViscontact::init_style()
   if (comm->ghost_velocity == 0) fail("pair viscontact requires 'comm_modify vel yes'");
 
   neighbor->add_request(this, NeighConst::REQ_SIZE);
+  coeff_cache.assign(1 << COEFF_CACHE_BITS, CoeffCache());    // coefficients may have changed
 
   // history is needed for friction and Jian's clock
   need_history = 0;
@@ -230,9 +232,6 @@ void PairViscontact::compute(int eflag, int vflag)
   FixViscontactHistory *fh = (fix_history && fix_history->ready()) ? fix_history : nullptr;
   if (need_history && !fh) fail("pair viscontact: contact history is not set up (internal error)");
 
-  // per-contact coefficients depend on (types, m*, R*): reuse the last ones when unchanged
-  int c_it = -1, c_jt = -1;
-  double c_m = -1.0, c_r = -1.0;
   vc::ContactCoeffs cc{0.0, 0.0, 0.0};
 
   const int inum = list->inum;
@@ -278,12 +277,23 @@ void PairViscontact::compute(int eflag, int vflag)
       const double mi = rmass[i], mj = rmass[j];
       const double meff = mi * mj / (mi + mj);
       const double reff = radi * radj / radsum;
-      if (itype != c_it || jtype != c_jt || meff != c_m || reff != c_r) {
-        cc = vc::contact_coeffs(lp, meff, reff);
-        c_it = itype;
-        c_jt = jtype;
-        c_m = meff;
-        c_r = reff;
+      {
+        // per-contact coefficients depend on (types, m*, R*) only: a small direct-mapped cache
+        // saves the powers of the alpha form for the few distinct contacts of most packings
+        uint64_t bm, br;
+        std::memcpy(&bm, &meff, sizeof bm);
+        std::memcpy(&br, &reff, sizeof br);
+        const uint64_t h = (bm ^ (br * 0x9E3779B97F4A7C15ULL) ^ ((uint64_t) (itype * 131 + jtype)
+                            * 0xC2B2AE3D27D4EB4FULL)) * 0x165667B19E3779F9ULL;
+        CoeffCache &e = coeff_cache[h >> (64 - COEFF_CACHE_BITS)];
+        if (e.itype != itype || e.jtype != jtype || e.meff != meff || e.reff != reff) {
+          e.cc = vc::contact_coeffs(lp, meff, reff);
+          e.itype = itype;
+          e.jtype = jtype;
+          e.meff = meff;
+          e.reff = reff;
+        }
+        cc = e.cc;
       }
 
       // history: this step's copy (written back only outside a run's setup)
