@@ -219,13 +219,15 @@ void FixWallViscontact::min_post_force(int vflag)
 
 /* ----------------------------------------------------------------------
    one sphere-wall contact: atom i, wall w, overlap delta > 0, n the unit normal from the wall
-   into the sphere.  At setup the history is read but not advanced (as pair granular does).
+   into the sphere.  At setup (update_history false) the history is read, never written.
 ------------------------------------------------------------------------- */
 
 void FixWallViscontact::contact(int i, int w, double delta, const double n[3],
                                 bool update_history, double t_now)
 {
-  double *h = &history[i][w * HIST];    // touch, xi[3], t0
+  double *stored = &history[i][w * HIST];    // touch, xi[3], t0
+  double h[HIST];
+  for (int m = 0; m < HIST; m++) h[m] = stored[m];
   const double r = atom->radius[i];
   const double *v = atom->v[i];
   const double *om = atom->omega[i];
@@ -248,11 +250,8 @@ void FixWallViscontact::contact(int i, int w, double delta, const double n[3],
   double ft[3] = {0.0, 0.0, 0.0};
   if (lp.friction) {
     const double kt = viscontact::mindlin_stiffness(lp.Gstar, r, delta);
-    double xi[3] = {h[1], h[2], h[3]};
-    // setup: dt = 0 gives F_t = -k_t xi of the stored spring (Coulomb-limited), unchanged
-    viscontact::mindlin_tangential(xi, n, vtr, update_history ? dt : 0.0, kt,
-                                   lp.mu * std::fabs(fn), ft);
-    if (update_history) h[1] = xi[0], h[2] = xi[1], h[3] = xi[2];
+    viscontact::mindlin_tangential(&h[1], n, vtr, dt, kt, lp.mu * std::fabs(fn), ft,
+                                   update_history);
     double tq[3];
     viscontact::tangential_torque(n, ft, r, tq);
     double *torque = atom->torque[i];
@@ -260,6 +259,10 @@ void FixWallViscontact::contact(int i, int w, double delta, const double n[3],
     torque[1] += tq[1];
     torque[2] += tq[2];
   }
+  // a run's setup computes forces from the history but never changes it (as pair viscontact
+  // and pair granular): a contact new at setup starts at the first step
+  if (update_history)
+    for (int m = 0; m < HIST; m++) stored[m] = h[m];
   double *f = atom->f[i];
   for (int d = 0; d < 3; d++) {
     const double fd = fn * n[d] + ft[d];
@@ -301,7 +304,7 @@ void FixWallViscontact::post_force(int /*vflag*/)
       }
       if (delta > 0.0) {
         contact(i, w, delta, n, update_history, t_now);
-      } else {
+      } else if (update_history) {
         double *h = &history[i][w * HIST];    // contact open: forget it
         for (int m = 0; m < HIST; m++) h[m] = 0.0;
       }
