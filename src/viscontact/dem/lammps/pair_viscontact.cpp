@@ -16,6 +16,7 @@
 #include "update.h"
 #include "utils.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstdint>
@@ -311,7 +312,8 @@ void PairViscontact::compute(int eflag, int vflag)
           hc = h;
         }
       }
-      const double t_contact = t_now - hc[3];
+      // >= 0 even if the user resets the simulation time (reset_timestep ... time) mid-contact
+      const double t_contact = std::max(0.0, t_now - hc[3]);
 
       const double fn = vc::clamp_normal(
           vc::normal_force(delta, ddelta, t_contact, cc.k, cc.c0, cc.tau, lp.p), lp.clamp);
