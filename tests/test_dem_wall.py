@@ -350,3 +350,37 @@ def test_lmp_executable_one_error_line(tmp_path):
     errs = error_lines(proc)
     assert proc.returncode != 0 and len(errs) == 1, (proc.returncode, errs)
     assert "tangential mindlin MU must be a finite number >= 0, got '-0.1'" in errs[0]
+
+
+# ---- the same as LAMMPS's own fix wall/gran where a native damping equals ours ------------------
+
+def test_same_as_native_fix_wall_gran(layer):
+    """fix wall/gran granular hertz/material E DAMP NU damping viscoelastic tangential mindlin
+    NULL 0.0 MU limit_damping (LAMMPS's wall of the particles' own material) against
+    fix viscontact/wall ... damping KK c0 (DAMP m sqrt(R)) end force tangential mindlin MU with
+    wall_material E NU (the same material): the sliding, spinning layer, 3000 steps.  Measured:
+    positions equal, velocities, spins, forces and torques within 1.2e-16 (relative to the
+    largest value); asserted 1e-10.  Negative control: c0 off by 1e-6 is seen."""
+    damp, mu = 3000.0, 0.3
+    m = 4.0 / 3.0 * np.pi * R**3 * RHO
+    c0 = float(damp * m * np.sqrt(R))  # viscoelastic: eta_n = DAMP m* a, a = sqrt(R* delta)
+    native = (f"fix floor all wall/gran granular hertz/material {E!r} {damp!r} {NU!r} damping "
+              f"viscoelastic tangential mindlin NULL 0.0 {mu!r} limit_damping zplane 0.0 NULL")
+    ours = (f"fix vcwall all viscontact/wall zplane 0.0 NULL wall_material {E!r} {NU!r} damping "
+            f"KK c0 {c0!r} end force tangential mindlin {mu!r} particle {E!r} {NU!r}")
+    body = ("run 3000\nwrite_dump all custom {out}.f id fx fy fz tqx tqy tqz modify sort id "
+            "format float %.17g")
+    res = {}
+    for tag, wall in (("native", native), ("ours", ours),
+                      ("off", ours.replace(f"c0 {c0!r}", f"c0 {c0 * (1 + 1e-6)!r}"))):
+        out = f"nat-{tag}.dump"
+        res[tag] = _run_layer(layer, out, body.format(out=out), wall=wall)
+        res[tag].update(read_atoms(layer / f"{out}.f"))
+    a, b = res["native"], res["ours"]
+    for group in (("x", "y", "z"), ("vx", "vy", "vz"), ("omegax", "omegay", "omegaz"),
+                  ("fx", "fy", "fz"), ("tqx", "tqy", "tqz")):
+        ref = np.stack([a[c] for c in group])
+        diff = np.abs(ref - np.stack([b[c] for c in group])).max() / np.abs(ref).max()
+        assert diff <= 1e-10, (group, diff)
+    off = np.abs(a["fz"] - res["off"]["fz"]).max() / np.abs(a["fz"]).max()
+    assert off > 1e-10, off
