@@ -384,3 +384,58 @@ def test_same_as_native_fix_wall_gran(layer):
         assert diff <= 1e-10, (group, diff)
     off = np.abs(a["fz"] - res["off"]["fz"]).max() / np.abs(a["fz"]).max()
     assert off > 1e-10, off
+
+
+def test_per_type_materials_and_wall_material():
+    """Two atom types of different E, nu (pair_coeff I I) and two radii hit a wall of a third
+    material: each contact has its own E* = 1/((1-nu^2)/E + (1-nu_w^2)/E_w), k_Hertz, m* = m
+    and c0 from its m*, k (FORM alpha); e, t_c, F_max against the exact solver within 1e-3 at
+    dt = t_c/1000 (end overlap: t_c between the overlap crossings)."""
+    law = dem.contact_law("KK", e=0.7, vref=1.0, end="overlap")
+    kw = law.keywords()
+    mats = {1: (1.0e7, 0.3, 0.010), 2: (4.0e7, 0.2, 0.006)}    # E, nu, R
+    ew, nuw, v = 2.0e7, 0.25, 1.0
+    ref = {}
+    for t, (Et, nut, Rt) in mats.items():
+        m = 4.0 / 3.0 * np.pi * Rt**3 * RHO
+        k = vc.dimensional.hertz_stiffness(vc.dimensional.effective_modulus(Et, nut, ew, nuw), Rt)
+        c = vc.damping_coefficient("KK", law.alpha, m_eff=m, k_hertz=k, v=law.vref)
+        ref[t] = vc.impact("KK", m_eff=m, k_hertz=k, v=v, c=c, end="overlap")
+    dt = min(r.tc for r in ref.values()) / 1000
+    lmp = _plugin.new_lammps()
+    try:
+        cmds = ["units si", "atom_style sphere", "atom_modify map array sort 0 0.0",
+                "boundary f f f", "comm_modify vel yes",
+                "region box block -0.1 0.1 -0.1 0.1 -0.01 0.1", "create_box 2 box"]
+        for t, (Et, nut, Rt) in mats.items():
+            x = -0.05 if t == 1 else 0.05
+            cmds += [f"create_atoms {t} single {x} 0 {Rt + 0.5 * dt * v!r}",
+                     f"set atom {t} diameter {2 * Rt!r}", f"set atom {t} density {RHO!r}",
+                     f"set atom {t} vz {-v}"]
+        cmds += ["pair_style viscontact"]
+        cmds += [f"pair_coeff {t} {t} hertz/material {Et!r} {nut!r} {kw} tangential none"
+                 for t, (Et, nut, Rt) in mats.items()]
+        cmds += [f"fix vcwall all viscontact/wall zplane 0.0 NULL wall_material {ew!r} {nuw!r} "
+                 f"{kw} tangential none", "fix 1 all nve/sphere", f"timestep {dt!r}",
+                 "thermo 0", "neighbor 0.001 bin", "run 0"]
+        for c in cmds:
+            lmp.command(c)
+        z, fz = [], []
+        for _ in range(int(2.5 * max(r.tc for r in ref.values()) / dt)):
+            lmp.command("run 1 pre no post no")
+            z.append(np.array(lmp.numpy.extract_atom("x")[:2, 2]))
+            fz.append(np.array(lmp.numpy.extract_atom("f")[:2, 2]))
+        vz = np.array(lmp.numpy.extract_atom("v")[:2, 2])
+    finally:
+        lmp.close()
+    z, fz = np.array(z), np.array(fz)
+    t = dt * np.arange(1, len(z) + 1)
+    for i, (tt, (Et, nut, Rt)) in enumerate(mats.items()):
+        delta = Rt - z[:, i]
+        inside = np.nonzero(delta > 0)[0]
+        i0, i1 = inside[0], inside[-1] + 1
+        start = t[i0] - dt * delta[i0] / (delta[i0] - delta[i0 - 1]) if i0 > 0 else 0.5 * dt
+        end = dc._crossing(t, delta, i1)
+        got = np.array([vz[i] / v, end - start, dc._peak(t, fz[:, i])])
+        want = np.array([ref[tt].e, ref[tt].tc, ref[tt].fmax])
+        assert np.all(np.abs(got / want - 1) < 1e-3), (tt, got, want)
