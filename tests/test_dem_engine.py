@@ -173,8 +173,7 @@ read_data pack.data
 pair_style viscontact
 pair_coeff * * hertz/material 1e7 0.3 damping {law} tangential mindlin 0.5
 {setup}
-run {n}
-write_restart {tag}.restart
+{write}
 run {n}
 write_dump all custom {tag}.ref id xu yu zu vx vy vz omegax omegay omegaz modify sort id format float %.17g
 """
@@ -188,9 +187,12 @@ write_dump all custom {tag}.{out} id xu yu zu vx vy vz omegax omegay omegaz modi
 """
 
 
-@pytest.mark.parametrize("newton,np_", [("off", 1), ("on", 2)])
-def test_restart_continues_exactly(pack, newton, np_):
+@pytest.mark.parametrize("newton,np_,mode", [("off", 1, "command"), ("on", 2, "command"),
+                                             ("on", 2, "periodic")])
+def test_restart_continues_exactly(pack, newton, np_, mode):
     """N steps, write_restart, N steps in one process against read_restart + N steps: equal.
+    ``mode``: the write_restart command after the run, or a restart file written during the
+    run's last step by ``restart N``.
 
     The reference continues with a second ``run`` (not one run of 2N steps) because every
     ``run`` starts by recomputing the forces from the full-step velocities (LAMMPS's setup; the
@@ -199,10 +201,13 @@ def test_restart_continues_exactly(pack, newton, np_):
     Negative control: the restarted run with its history dropped differs grossly.
     """
     d, _ = pack
-    tag = f"rs.{newton}.{np_}"
+    tag = f"rs.{newton}.{np_}.{mode}"
     law = LAWS["Jian"]
+    n = STEPS // 2
+    write = (f"run {n}\nwrite_restart {tag}.restart" if mode == "command" else
+             f"restart {n} {tag}.*\nrun {n}\nrestart 0\nshell mv {tag}.{n} {tag}.restart")
     proc = run_lmp(_RESTART_A.format(plugin=plugin_line(), newton=newton, law=law, setup=_SETUP,
-                                     n=STEPS // 2, tag=tag), d, np=np_, name=f"in.{tag}.a")
+                                     n=n, tag=tag, write=write), d, np=np_, name=f"in.{tag}.a")
     assert_ok(proc)
     proc = run_lmp(_RESTART_B.format(plugin=plugin_line(), tag=tag, pstyle="", setup=_SETUP,
                                      n=STEPS // 2, out="restarted"), d, np=np_, name=f"in.{tag}.b")
