@@ -336,6 +336,23 @@ def test_no_particle_material_one_error():
     assert err is not None and "no material for atom type 1" in err, err
 
 
+def test_inserted_atom_without_material_one_error():
+    """An atom inserted during the run (fix deposit) whose type has no material: an error when
+    it touches the wall, never a force from E* = 0."""
+    lmp = _plugin.new_lammps()
+    try:
+        with pytest.raises(Exception, match="fix viscontact/wall: no material for atom type 1"):
+            lmp.commands_string(
+                "units si\natom_style sphere\nboundary f f f\n"
+                "region box block -0.1 0.1 -0.1 0.1 0 0.1\ncreate_box 1 box\n"
+                "region ins block -0.01 0.01 -0.01 0.01 0.06 0.07\n"
+                "fix dep all deposit 1 1 1 12345 region ins vz -1 -1 id max\n"
+                f"fix vcwall all viscontact/wall {GOOD.replace(' particle 1e7 0.3', '')}\n"
+                "fix 1 all nve/sphere\ntimestep 1e-6\nrun 200")
+    finally:
+        lmp.close()
+
+
 def test_material_from_pair_coeff():
     pair = ("comm_modify vel yes\npair_style viscontact\npair_coeff * * hertz/material 1e7 0.3 "
             "damping KK alpha 0.2 vref 1 tangential none")

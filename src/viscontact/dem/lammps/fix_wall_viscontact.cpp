@@ -194,7 +194,7 @@ void FixWallViscontact::init()
         fail("no material for atom type " + std::to_string(t) +
              ": give particle E NU, or pair_style viscontact with pair_coeff " +
              std::to_string(t) + " " + std::to_string(t));
-      type_law[t].Estar = type_law[t].Gstar = 0.0;    // never touches the wall
+      type_law[t].Estar = type_law[t].Gstar = 0.0;    // an error if it ever touches the wall
       continue;
     }
     type_law[t].Estar = 1.0 / (viscontact::inverse_Estar_term(E, nu) + inv_E_wall);
@@ -233,6 +233,10 @@ void FixWallViscontact::contact(int i, int w, double delta, const double n[3],
   const double *om = atom->omega[i];
   const double dt = update->dt;
   const viscontact::LawParams &lp = type_law[atom->type[i]];
+  if (lp.Estar == 0.0)    // a type absent from the group at init (e.g. inserted since)
+    error->one(FLERR, std::string(PREFIX) + "no material for atom type " +
+                          std::to_string(atom->type[i]) +
+                          ": give particle E NU, or pair_coeff I I of pair viscontact");
 
   double wr[3] = {r * om[0], r * om[1], r * om[2]};
   double vtr[3];
