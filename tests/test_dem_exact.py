@@ -156,8 +156,10 @@ def test_chung_ooi_4_normal_restitution(oblique):
 def test_chung_ooi_4_gross_sliding_matches_impulse_theory(oblique):
     # tan(theta) >= 3.5 mu (1 + e): the contact slides throughout, J_t = mu J_n; rigid-body
     # theory: e_t = 1 - mu (1 + e) cot(theta), w = 5 mu (1 + e) v cos(theta) / (2 R).
-    # Mindlin's spring makes the contact slide from the first instant here (F_t/F_n starts at
-    # 6 (G*/E*) tan(theta) > mu), so only the time step separates DEM and theory: 1e-3.
+    # Mindlin's spring reaches the Coulomb limit within a tiny part of the contact (its ratio to
+    # the elastic normal force, 6 (G*/E*) tan(theta), exceeds mu; only the damping term, large
+    # at the first instant, holds it back), so J_t = mu J_n up to that instant and the time
+    # step: 1e-3 (measured: e_t within 1e-5, spin within 2e-5).
     sliding = [m for m in oblique if math.tan(math.radians(m.shot.angle)) >= 3.5 * MU * (1 + E4)]
     assert len(sliding) >= 10
     for m in sliding:
