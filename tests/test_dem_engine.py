@@ -533,6 +533,9 @@ pair_coeff 1 1 hertz/material {E1:.17g} {nu1} damping KK alpha {a1} vref {vr1} t
 pair_coeff 2 2 hertz/material {E2:.17g} {nu2} damping {law2} alpha {a2} vref {vr2} tangential mindlin 0.2
 fix 1 all nve/sphere
 timestep 1e-7
+compute pl all pair/local force p1 p2 p3 p4
+dump pl all local 1 local.dump c_pl[*]
+dump_modify pl format float %.17g
 run 1
 write_dump all custom mix.dump id mass x y z vx vy vz fx fy fz modify sort id format float %.17g
 """
@@ -574,6 +577,14 @@ def test_mixing_of_two_types(tmp_path):
     expect = fn * n + ft
     np.testing.assert_allclose(f[0], expect, rtol=0, atol=1e-12 * np.abs(expect).max())
     np.testing.assert_allclose(f[1], -expect, rtol=0, atol=1e-12 * np.abs(expect).max())
+    # compute pair/local (pair single): F_n at the dumped (full-step) velocities, F_t, overlap
+    local = (tmp_path / "local.dump").read_text().split("ITEM: ENTRIES")[-1].split("\n")[1]
+    fn_local, *rest = map(float, local.split())
+    v_full = np.stack([at["vx"], at["vy"], at["vz"]], 1)
+    fn_full = k * delta**1.5 + c0 * math.sqrt(delta) * (-(v_full[0] - v_full[1]) @ n)
+    assert fn_local == pytest.approx(fn_full, rel=1e-12)
+    np.testing.assert_allclose(rest[:3], ft, rtol=0, atol=1e-12 * np.abs(expect).max())
+    assert rest[3] == pytest.approx(delta, rel=1e-12)
     # unequal laws cannot be mixed
     proc = run_lmp(_MIX.format(law2="LH", **fmt), tmp_path, name="in.bad")
     errs = error_lines(proc)

@@ -29,7 +29,9 @@ PairViscontact::PairViscontact(LAMMPS *lmp) :
     Pair(lmp), params(nullptr), Ein(nullptr), nuin(nullptr), drop_history(0), need_history(0),
     fix_history(nullptr)
 {
-  single_enable = 0;
+  single_enable = 1;
+  single_extra = 4;    // F_t (x, y, z) and the overlap, for compute pair/local p1..p4
+  svector = new double[single_extra];
   restartinfo = 1;
   finitecutflag = 1;
   beyond_contact = 0;
@@ -39,6 +41,8 @@ PairViscontact::PairViscontact(LAMMPS *lmp) :
 PairViscontact::~PairViscontact()
 {
   if (copymode) return;
+  delete[] svector;
+  svector = nullptr;
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
@@ -346,6 +350,66 @@ void PairViscontact::compute(int eflag, int vflag)
       if (evflag) ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fx, fy, fz, dx[0], dx[1], dx[2]);
     }
   }
+}
+
+/* One pair's forces for compute pair/local: returns 0 (no energy), fforce = F_n / r (so that
+   "force" = F_n, the clamped normal force), svector = F_t on i (x, y, z) and the overlap.  The
+   tangential force comes from the stored history as it is (not advanced). */
+double PairViscontact::single(int i, int j, int itype, int jtype, double rsq, double /*factor_coul*/,
+                              double /*factor_lj*/, double &fforce)
+{
+  for (int k = 0; k < single_extra; k++) svector[k] = 0.0;
+  fforce = 0.0;
+  double **x = atom->x, **v = atom->v, **omega = atom->omega;
+  const double radi = atom->radius[i], radj = atom->radius[j];
+  const double radsum = radi + radj;
+  if (rsq >= radsum * radsum) return 0.0;
+  const vc::LawParams &lp = params[itype][jtype];
+  const double r = std::sqrt(rsq);
+  const double rinv = 1.0 / r;
+  const double delta = radsum - r;
+  const double n[3] = {(x[i][0] - x[j][0]) * rinv, (x[i][1] - x[j][1]) * rinv,
+                       (x[i][2] - x[j][2]) * rinv};
+  const double vr[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
+  const double wr[3] = {radi * omega[i][0] + radj * omega[j][0],
+                        radi * omega[i][1] + radj * omega[j][1],
+                        radi * omega[i][2] + radj * omega[j][2]};
+  double vtr[3];
+  const double ddelta = -vc::relative_tangential_velocity(vr, wr, n, vtr);
+  const double mi = atom->rmass[i], mj = atom->rmass[j];
+  const double meff = mi * mj / (mi + mj);
+  const double reff = radi * radj / radsum;
+  const vc::ContactCoeffs cc = vc::contact_coeffs(lp, meff, reff);
+  const double dt = update->dt;
+  const double t_now = update->atime + (double) (update->ntimestep - update->atimestep) * dt;
+
+  // this contact's history in the pair's neighbour list (i's entry for j), if any
+  double hist[vc::HISTORY_SIZE] = {0.0, 0.0, 0.0, vc::contact_start_time(t_now, dt, delta, ddelta)};
+  if (fix_history && fix_history->ready()) {
+    const int *jlist = list->firstneigh[i];
+    const int jnum = list->numneigh[i];
+    const char *fl = fix_history->flags_of(i);
+    const double *hv = fix_history->values_of(i);
+    for (int jj = 0; jj < jnum; jj++) {
+      if ((jlist[jj] & NEIGHMASK) == j && fl[jj]) {
+        for (int k = 0; k < vc::HISTORY_SIZE; k++) hist[k] = hv[vc::HISTORY_SIZE * jj + k];
+        break;
+      }
+    }
+  }
+  const double fn = vc::clamp_normal(
+      vc::normal_force(delta, ddelta, std::max(0.0, t_now - hist[3]), cc.k, cc.c0, cc.tau, lp.p),
+      lp.clamp);
+  double ft[3] = {0.0, 0.0, 0.0};
+  if (lp.friction)
+    vc::mindlin_tangential(hist, n, vtr, dt, vc::mindlin_stiffness(lp.Gstar, reff, delta),
+                           lp.mu * std::fabs(fn), ft, false);
+  fforce = fn * rinv;
+  svector[0] = ft[0];
+  svector[1] = ft[1];
+  svector[2] = ft[2];
+  svector[3] = delta;
+  return 0.0;
 }
 
 /* ---- restart: the coefficients as given, per set type pair ---- */
