@@ -159,16 +159,17 @@ def test_chung_ooi_4_gross_sliding_matches_impulse_theory(oblique):
     # Mindlin's spring reaches the Coulomb limit within a tiny part of the contact (its ratio to
     # the elastic normal force, 6 (G*/E*) tan(theta), exceeds mu; only the damping term, large
     # at the first instant, holds it back), so J_t = mu J_n up to that instant and the time
-    # step: 1e-3 (measured: e_t within 8e-7, spin within 3e-6 relative, normal e within 9e-7).
+    # step: asserted 1e-4 (measured: e_t within 8e-7, spin within 3e-6 relative, normal e
+    # within 9e-7); a torque arm of R - delta/2 instead of R would be off by ~1e-3.
     sliding = [m for m in oblique if math.tan(math.radians(m.shot.angle)) >= 3.5 * MU * (1 + E4)]
     assert len(sliding) >= 10
     for m in sliding:
         th = math.radians(m.shot.angle)
         et = 1 - MU * (1 + E4) / math.tan(th)
         w = 5 * MU * (1 + E4) * V4 * math.cos(th) / (2 * R4)
-        assert abs(m.vt_out / m.vt_in - et) < TOL, (m.shot.angle, m.vt_out / m.vt_in, et)
+        assert abs(m.vt_out / m.vt_in - et) < 1e-4, (m.shot.angle, m.vt_out / m.vt_in, et)
         # the sphere moves in +x on the plane z = 0: friction spins it about +y
-        assert abs(m.spin_out / w - 1) < TOL, (m.shot.angle, m.spin_out, w)
+        assert abs(m.spin_out / w - 1) < 1e-4, (m.shot.angle, m.spin_out, w)
 
 
 def test_chung_ooi_4_sticking_regime(oblique):
