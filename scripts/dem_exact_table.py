@@ -101,8 +101,9 @@ def main() -> None:
         et = 1 - tx.MU * (1 + tx.E4) / math.tan(th) if slide else 5 / 7
         w = (5 * tx.MU * (1 + tx.E4) * tx.V4 * math.cos(th) / (2 * tx.R4) if slide
              else 5 * tx.V4 * math.sin(th) / (7 * tx.R4))
+        regime = "sliding" if slide else "sticking (rolling theory)"
         print(f"  {m.shot.angle:2d}  e {m.e:.5f}  e_t {m.vt_out / m.vt_in:+.5f} / {et:+.5f}  "
-              f"w {m.spin_out:9.2f} / {w:9.2f}  {'sliding' if slide else 'sticking (rolling theory)'}")
+              f"w {m.spin_out:9.2f} / {w:9.2f}  {regime}")
     print(f"\n{time.perf_counter() - t0:.1f} s")
 
 

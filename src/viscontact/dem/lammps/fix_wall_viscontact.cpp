@@ -89,7 +89,8 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       fail("zcylinder cannot be used with periodic x or y");
     iarg = 5;
   } else {
-    fail("unknown wall style '" + style + "'; allowed: xplane yplane zplane (LO HI) or zcylinder R");
+    fail("unknown wall style '" + style +
+         "'; allowed: xplane yplane zplane (LO HI) or zcylinder R");
   }
 
   // materials and the law
@@ -111,7 +112,8 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
         wall_rigid = true;
         i += 2;
       } else {
-        if (i + 2 >= args.size()) fail("wall_material needs E NU (E > 0 Pa, NU in (-1, 0.5]) or rigid");
+        if (i + 2 >= args.size())
+          fail("wall_material needs E NU (E > 0 Pa, NU in (-1, 0.5]) or rigid");
         err = parse_material("wall_material", args[i + 1], args[i + 2], wall_E, wall_nu);
         if (!err.empty()) fail(err);
         i += 3;
