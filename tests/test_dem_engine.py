@@ -6,7 +6,8 @@ reason when absent).  The settling pack: 480 frictional spheres (mu = 0.5, two r
 velocities and spins, read from one data file so that every run starts from the same atoms, on
 a frictionless floor (native ``fix wall/gran``, no history) under gravity, drifting along x at
 1 m/s, 400 steps with ~30 neighbour-list rebuilds and about a fifth of the atoms crossing the
-boundary between two ranks (``processors 2 1 1``).
+boundary between two ranks (``processors 2 1 1``, moved every 50 steps by ``fix balance``, which
+migrates atoms in its pre_exchange: the history fix must, and does, come before it).
 """
 
 from __future__ import annotations
@@ -52,6 +53,7 @@ run {steps}
 write_dump all custom {out} id xu yu zu vx vy vz omegax omegay omegaz modify sort id format float %.17g
 """
 _SETUP = """\
+fix bal all balance 50 1.0 shift x 5 1.02
 fix floor all wall/gran granular hertz/material 1e7 0.3 0.3 tangential linear_nohistory 0 0 zplane 0.0 NULL
 fix g all gravity 9.81 vector 0 0 -1
 fix 1 all nve/sphere

@@ -6,6 +6,7 @@
 
 #include "atom.h"
 #include "comm.h"
+#include "domain.h"
 #include "error.h"
 #include "fix_viscontact_history.h"
 #include "force.h"
@@ -25,6 +26,9 @@
 using namespace LAMMPS_NS;
 namespace vc = viscontact;
 
+static const char *const HISTORY_ID = "VISCONTACT_HISTORY";
+static const char *const DUMMY_ID = "VISCONTACT_HISTORY_DUMMY";
+
 PairViscontact::PairViscontact(LAMMPS *lmp) :
     Pair(lmp), params(nullptr), Ein(nullptr), nuin(nullptr), drop_history(0), need_history(0),
     fix_history(nullptr)
@@ -36,6 +40,10 @@ PairViscontact::PairViscontact(LAMMPS *lmp) :
   finitecutflag = 1;
   beyond_contact = 0;
   no_virial_fdotr_compute = 1;
+  // a placeholder at this point of the fix list (replaced by the history fix in init_style), so
+  // the history fix comes before fixes defined later that migrate atoms (fix balance)
+  if (domain->box_exist && !modify->get_fix_by_id(HISTORY_ID) && !modify->get_fix_by_id(DUMMY_ID))
+    modify->add_fix(std::string(DUMMY_ID) + " all DUMMY");
 }
 
 PairViscontact::~PairViscontact()
@@ -51,7 +59,8 @@ PairViscontact::~PairViscontact()
     for (int i = 0; i <= atom->ntypes; i++) delete[] params[i];
     delete[] params;
   }
-  if (fix_history && modify->get_fix_by_id(fix_history->id)) modify->delete_fix(fix_history->id);
+  if (fix_history && modify->get_fix_by_id(HISTORY_ID)) modify->delete_fix(HISTORY_ID);
+  if (modify->get_fix_by_id(DUMMY_ID)) modify->delete_fix(DUMMY_ID);
 }
 
 void PairViscontact::allocate()
@@ -174,9 +183,12 @@ void PairViscontact::init_style()
   if (need_history && fix_history == nullptr) {
     // one fixed ID, so that read_restart re-attaches the per-atom history whatever the
     // instance count of the run that wrote it
-    const std::string id = "VISCONTACT_HISTORY";
+    const std::string id = HISTORY_ID;
     Fix *f = modify->get_fix_by_id(id);
-    if (!f) f = modify->add_fix(id + " all VISCONTACT_HISTORY");
+    if (!f && modify->get_fix_by_id(DUMMY_ID))
+      f = modify->replace_fix(DUMMY_ID, id + " all VISCONTACT_HISTORY", 1);
+    else if (!f)
+      f = modify->add_fix(id + " all VISCONTACT_HISTORY");
     fix_history = dynamic_cast<FixViscontactHistory *>(f);
     if (!fix_history) fail(fmt::format("pair viscontact: fix ID {} is taken by another fix", id));
     if (fix_history->pair && fix_history->pair != this)
