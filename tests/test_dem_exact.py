@@ -185,3 +185,26 @@ def test_chung_ooi_4_sticking_regime(oblique):
         et = m.vt_out / m.vt_in
         assert 1 - et <= MU * (1 + E4) / math.tan(th) * (1 + 1e-9), (m.shot.angle, et)
         assert abs(m.spin_out * R4 - 2.5 * (m.vt_in - m.vt_out)) <= 1e-9 * m.vt_in
+
+
+def test_chung_ooi_4_sticking_regime_converges():
+    """Below the sliding threshold the answer is Mindlin's (no closed form): the DEM converges
+    to it as dt halves (t_c/125 ... t_c/1000: the largest change over the angles, of e_t and of
+    the spin ratio w R / v_t, shrinks at least linearly, measured order 1.2), and at
+    t_c/1000 it is within 1e-4 of the limit (first-order Richardson estimate: the last change;
+    measured 1.6e-5 and 4.0e-5).  E.g. e_t = 0.6201 at 20 degrees, against 5/7 for rolling."""
+    law = dem.contact_law("Ts", e=E4, vref=V4)
+    angles = [a for a in ANGLES if math.tan(math.radians(a)) < 3.5 * MU * (1 + E4)]
+    shots = [dc.Shot("wall", V4 * math.cos(math.radians(a)), angle=a) for a in angles]
+    levels = (125, 250, 500, 1000)
+    out = []
+    for n in levels:
+        res = dc.run(dc.Setup(law, ALOX, R4, shots, friction=MU, steps_per_tc=n))
+        out.append([[m.vt_out / m.vt_in, m.spin_out * R4 / (V4 * math.sin(math.radians(a)))]
+                    for m, a in zip(res, angles)])
+    out = np.array(out)                                       # level x angle x (e_t, spin)
+    change = np.abs(np.diff(out, axis=0)).max(axis=1)         # per halving, largest over angles
+    for q in range(2):
+        order = np.polyfit(-np.log(levels[1:]), np.log(change[:, q]), 1)[0]
+        assert order >= MIN_ORDER, (q, change[:, q], order)
+        assert change[-1, q] < 1e-4, (q, change[:, q])
