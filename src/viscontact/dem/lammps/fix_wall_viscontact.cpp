@@ -202,6 +202,24 @@ void FixWallViscontact::init()
     type_law[t].Estar = 1.0 / (viscontact::inverse_Estar_term(E, nu) + inv_E_wall);
     type_law[t].Gstar = 1.0 / (viscontact::inverse_Gstar_term(E, nu) + inv_G_wall);
   }
+  cache.assign(1 << CACHE_BITS, Coeffs());    // the materials may have changed
+}
+
+const viscontact::ContactCoeffs &FixWallViscontact::coeffs(int type, double m, double r)
+{
+  uint64_t bm, br;
+  std::memcpy(&bm, &m, sizeof bm);
+  std::memcpy(&br, &r, sizeof br);
+  const uint64_t key = (bm * 0x9E3779B97F4A7C15ULL) ^ (br * 0xC2B2AE3D27D4EB4FULL) ^
+      static_cast<uint64_t>(type) * 0x165667B19E3779F9ULL;
+  Coeffs &c = cache[(key * 0xD6E8FEB86659FD93ULL) >> (64 - CACHE_BITS)];
+  if (c.type != type || c.m != m || c.r != r) {    // wall: m* = m, R* = r
+    c.cc = viscontact::contact_coeffs(type_law[type], m, r);
+    c.type = type;
+    c.m = m;
+    c.r = r;
+  }
+  return c.cc;
 }
 
 void FixWallViscontact::setup(int vflag)
@@ -249,7 +267,7 @@ void FixWallViscontact::contact(int i, int w, double delta, const double n[3],
     h[1] = h[2] = h[3] = 0.0;
     h[4] = viscontact::contact_start_time(t_now, dt, delta, ddelta);
   }
-  const viscontact::ContactCoeffs cc = viscontact::contact_coeffs(lp, atom->rmass[i], r);
+  const viscontact::ContactCoeffs &cc = coeffs(atom->type[i], atom->rmass[i], r);
   const double fn = viscontact::clamp_normal(
       viscontact::normal_force(delta, ddelta, t_now - h[4], cc.k, cc.c0, cc.tau, lp.p), lp.clamp);
 

@@ -27,6 +27,7 @@
 #include "fix.h"
 #include "viscontact_contact.h"
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,17 @@ class FixWallViscontact : public Fix {
   double wall_E, wall_nu;
   bool has_particle;
   double particle_E, particle_nu;
+
+  // k, c0, tau depend on (type, m, r) only: a direct-mapped cache keeps the alpha form's
+  // powers out of the step for the few distinct spheres of most packings
+  struct Coeffs {
+    int type = -1;
+    double m = 0.0, r = 0.0;
+    viscontact::ContactCoeffs cc{0.0, 0.0, 0.0};
+  };
+  static constexpr int CACHE_BITS = 8;
+  std::vector<Coeffs> cache;
+  const viscontact::ContactCoeffs &coeffs(int type, double m, double r);
 
   // per atom: nwall * HIST values; per wall: touch flag, xi[3], contact start time
   static constexpr int HIST = 1 + viscontact::HISTORY_SIZE;
