@@ -352,6 +352,12 @@ BAD = [
     ("hertz/material 1e7 0.3 damping KK alpha 0.3 vref 1 end sticky tangential none",
      "end must be followed by force"),
     ("hertz 1e7 0.3 damping KK alpha 0.3 vref 1 tangential none", "expected 'hertz/material E NU'"),
+    ("", "expected 'hertz/material E NU'"),
+    ("hertz/material 1e7", "hertz/material needs two values, E and NU"),
+    ("hertz/material 1e7 0.3 damping KK alpha 0.3 alpha 0.4 vref 1 tangential none",
+     "alpha given twice"),
+    ("hertz/material 1e7 0.3 damping Jian c0 5 tangential none", "damping Jian with c0 needs tau S"),
+    ("hertz/material 1e7 0.3 damping KK alpha 0.3 vref 1 tangential mindlin", "mindlin needs MU"),
 ]
 
 
@@ -601,3 +607,12 @@ def test_mixing_of_two_types(tmp_path):
     proc = run_lmp(_MIX.format(law2="LH", **fmt), tmp_path, name="in.bad")
     errs = error_lines(proc)
     assert len(errs) == 1 and "types 1 and 2 use different laws; give pair_coeff 1 2" in errs[0], errs
+
+
+def test_bad_pair_style_option_one_error_line(tmp_path):
+    script = _ERR.format(plugin=plugin_line(), style="sphere", comm="comm_modify vel yes",
+                         coeff=GOOD).replace("pair_style viscontact", "pair_style viscontact 1.0")
+    proc = run_lmp(script, tmp_path)
+    errs = error_lines(proc)
+    assert 0 < proc.returncode < 128 and len(errs) == 1, errs
+    assert "unknown pair_style option '1.0'" in errs[0] and "drop_history" in errs[0], errs
