@@ -123,20 +123,22 @@ def test_one_rank_equals_two_ranks(pack, newton, law):
     assert crossed >= 20, crossed
 
 
-def test_history_survives_rebuilds_exactly(pack):
+@pytest.mark.parametrize("newton", ["off", "on"])
+def test_history_survives_rebuilds_exactly(pack, newton):
     """Rebuilding the neighbour lists at every step (each contact's history goes through the
-    per-atom partner lists 400 times) gives the run that rebuilds only when needed (~30 times):
-    the round trip list -> partner lists -> new list keeps every value."""
+    per-atom partner lists 400 times; newton on: half of them through the ghost atoms' reverse
+    communication) gives the run that rebuilds only when needed (~30 times): the round trip
+    list -> partner lists -> new list keeps every value."""
     d, _ = pack
-    ref, proc = _run_pack(d, "rebuild.some", law="Jian")
+    ref, proc = _run_pack(d, f"rebuild.some.{newton}", law="Jian", newton=newton)
     assert 10 <= _builds(proc) < STEPS / 4
-    script = _PACK.format(plugin=plugin_line(), newton="off", pstyle="", law=LAWS["Jian"],
+    script = _PACK.format(plugin=plugin_line(), newton=newton, pstyle="", law=LAWS["Jian"],
                           setup=_SETUP.replace("check yes", "check no"), steps=STEPS,
-                          out="rebuild.every")
-    proc = run_lmp(script, d, name="in.rebuild.every")
+                          out=f"rebuild.every.{newton}")
+    proc = run_lmp(script, d, name=f"in.rebuild.every.{newton}")
     assert_ok(proc)
     assert _builds(proc) >= STEPS
-    diffs = _max_rel_diff(ref, read_atoms(d / "rebuild.every"))
+    diffs = _max_rel_diff(ref, read_atoms(d / f"rebuild.every.{newton}"))
     assert max(diffs.values()) <= TOL, diffs
 
 
