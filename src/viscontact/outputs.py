@@ -126,11 +126,11 @@ def check_file(path: str | None, command: str, force: bool, option: str,
     if path is None or not str(path).strip():
         raise OutputError(f"{option} needs a file name")
     target = Path(path)
+    if target.is_dir():
+        raise OutputError(f"{option} {path} is a directory; give a file name")
     if suffix is not None and target.suffix.lower() != suffix:
         raise OutputError(f"{option} {path}: give a file name ending in {suffix} "
                           f"(the file is written as {suffix[1:].upper()} under the name given)")
-    if target.is_dir():
-        raise OutputError(f"{option} {path} is a directory; give a file name")
     if target.is_symlink() or (os.path.lexists(target) and not target.is_file()):
         raise OutputError(f"{option} {path} exists and is not a regular file; it is never "
                           "overwritten: choose another name")
