@@ -518,3 +518,18 @@ def test_one_line_from_a_real_process(tmp_path, args):
     assert proc.returncode == 2 and len(proc.stderr.splitlines()) == 1, proc.stderr
     assert proc.stdout == ""
     assert lost_files(tmp_path, USER_FILES) == []
+
+
+def test_audit_then_reproduce_share_the_default_directory(tmp_path, monkeypatch):
+    """``audit --all`` writes into viscontact-report/audit by default: a report can still go
+    into viscontact-report afterwards (it holds only viscontact output), a user file cannot."""
+    from viscontact.outputs import OutputDir
+
+    monkeypatch.chdir(tmp_path)
+    assert call(["audit", "--all", "--grid", "0.5", "--no-plots"]).status == 0
+    with OutputDir("viscontact-report", "reproduce", False) as out:
+        (out.staging / "index.html").write_text("report\n")
+    assert (tmp_path / "viscontact-report" / "audit" / "formulas.csv").is_file()
+    (tmp_path / "viscontact-report" / "audit" / "mine.txt").write_text("mine\n")
+    assert call(["audit", "--all", "--grid", "0.5", "--no-plots", "--force"]).status == 0
+    assert (tmp_path / "viscontact-report" / "audit" / "mine.txt").read_text() == "mine\n"

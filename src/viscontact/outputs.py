@@ -14,6 +14,8 @@ How earlier output is recognised:
   the names the command writes, is never overwritten.  Files of an earlier run that the new run
   does not write are removed (only while unchanged); anything else in the directory is left alone.
   The manifest of reports written before it existed, :data:`LEGACY_MANIFESTS`, lists names only.
+  A directory counts as empty when all it holds is other output directories (``audit --all``
+  writes into ``viscontact-report/audit`` by default, before or after ``reproduce``).
 * **Single files** (``sweep --csv/--json/--plot``, ``collide --plot``) carry a marker in the file:
   PNG: a ``tEXt`` chunk with the keyword ``viscontact``; CSV: a first line ``# written by
   viscontact COMMAND VERSION``; JSON: a first key ``"written_by": "viscontact COMMAND VERSION"``.
@@ -230,6 +232,11 @@ def read_manifest(out: Path) -> tuple[str, dict[str, str | None]] | None:
     return None
 
 
+def _is_output_dir(entry: os.DirEntry) -> bool:
+    """A subdirectory holding viscontact output (``audit --all`` writes into the report's)."""
+    return entry.is_dir(follow_symlinks=False) and read_manifest(Path(entry.path)) is not None
+
+
 def _plain_name(name: str) -> bool:
     return bool(name) and "/" not in name and "\\" not in name and name not in (".", "..")
 
@@ -269,7 +276,8 @@ class OutputDir:
         man = read_manifest(out)
         if man is None:
             try:
-                empty = not any(e.name != self.staging.name for e in os.scandir(out))
+                empty = not any(e.name != self.staging.name and not _is_output_dir(e)
+                                for e in os.scandir(out))
             except OSError as exc:
                 raise OutputError(f"cannot read {out}: {exc.strerror or exc}") from None
             if not empty:
