@@ -92,6 +92,8 @@ NONSENSE = [
     ["sweep", "--ball", "OLB", "--num", "1", "--v-min", "0.5", "--v-max", "1"],
     ["sweep", "--model", "KK", "--mass", "0.1", "--k-hertz", "1e6", "--c", "5", "--beta", "0.5"],
     ["sweep", "--ball", "OLB", "--csv", "-", "--json", "-"],
+    ["sweep", "--model", "KK", "--mass", "0.1", "--k-hertz", "1e6", "--c", "5", "--v", "1"],
+    ["audit", "--formula", "flores", "--e", "0.5", "--p", "0.5"],
     ["sweep", "--ball", "OLB", "--csv", "same.out", "--json", "same.out"],
     ["sweep", "--ball", "OLB", "--force"],
     ["collide", "--model", "KK", "--alpha", "0.3", "--histories"],

@@ -12,6 +12,7 @@ by the library instead.  Notes (``common.note``) are printed on stderr only afte
 from __future__ import annotations
 
 import argparse
+import logging
 import os
 import sys
 import warnings
@@ -62,6 +63,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point; returns the exit status (see the module docstring)."""
     common.NOTES.clear()
+    logging.getLogger("matplotlib").setLevel(logging.ERROR)  # its font notes go to stderr
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:

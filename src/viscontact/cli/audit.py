@@ -95,6 +95,8 @@ def _no_engine_options(args: argparse.Namespace) -> None:
 
 def _formula(args: argparse.Namespace) -> int:
     _no_engine_options(args)
+    if args.p is not None and args.formula.strip().lower() != "first-order":
+        raise ValueError("--p only applies to --formula first-order (with --model power)")
     f = get_formula(args.formula, model=args.model, p=args.p)
     end = args.end or "force"
     r = audit_formula(f, args.e, end)

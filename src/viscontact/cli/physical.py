@@ -206,6 +206,9 @@ def _sweep(args: argparse.Namespace) -> int:
             raise ValueError("give --c (and --tau) or --e to calibrate, not both")
         if args.beta is not None:
             raise ValueError("--beta goes with --e (calibration); with --c give --tau [s]")
+        if args.v is not None or args.drop_height is not None:
+            raise ValueError("--v/--drop-height give the speed of a calibration (with --e); with "
+                             "--c the speeds are --speeds or --v-min/--v-max/--num")
         m_eff, k, _v, b = _contact(args)
         setups = [(lookup(args.model).name, args.c, args.tau)]
         measured = None
