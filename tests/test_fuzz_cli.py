@@ -54,7 +54,7 @@ USER_DIRS = ("empty",)
 #: values of output options: the user's files and directories, odd names, a new name
 PATHS = {
     "file": ("plot.png", "mine.png", "mine.csv", "D", "D.png", "empty", "", "-", "x", "/",
-             "no/such/dir/x.png", "new.png"),
+             "no/such/dir/x.png", "new.png", "new.png/"),
     "dir": ("D", "D.png", "mine.csv", "", "/", ".", "viscontact-report", "empty/sub"),
 }
 #: a valid, quick call of each command (the fuzzed options are changed or added to these)

@@ -128,7 +128,7 @@ def check_file(path: str | None, command: str, force: bool, option: str,
     if path is None or not str(path).strip():
         raise OutputError(f"{option} needs a file name")
     target = Path(path)
-    if target.is_dir():
+    if target.is_dir() or str(path).endswith(("/", os.sep)):
         raise OutputError(f"{option} {path} is a directory; give a file name")
     if suffix is not None and target.suffix.lower() != suffix:
         raise OutputError(f"{option} {path}: give a file name ending in {suffix} "
