@@ -24,6 +24,18 @@ Writing is atomic: a file goes through a temporary sibling and ``os.replace`` (o
 which never replaces a file that appeared meanwhile); a directory is built in a temporary
 directory and moved into place whole (or file by file into an existing one); a failure leaves
 nothing behind, not even the parent directories it created.
+
+How a command uses it (``cli/core.py``, ``cli/fit.py``, ``report/build.py`` are examples): check
+before any work, write after it, with the command's name (the owner recorded in the marker)::
+
+    check_file(args.plot, "collide", args.force, "--plot", ".png")      # refuses early
+    ...
+    write_png(args.plot, "collide", args.force, "--plot", lambda tmp: fig.savefig(tmp))
+
+    out = OutputDir(args.out, "fit", args.force, expected=names)        # refuses early
+    ...
+    with out:                                                            # installs at the end
+        (out.staging / "fit.json").write_text(text)
 """
 
 from __future__ import annotations
