@@ -147,6 +147,9 @@ LIBRARY_SIDE = [
     ["audit", "--formula", "flores", "--e", "1e-320"],
     ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "1e-320"],
     ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "1e-3"],
+    ["audit", "--formula", "flores", "--e", "1e-3"],  # nan once alpha has a domain (1598 > max)
+    ["audit", "--engine", "lammps", "--damping", "velocity", "--e", "0.7", "--m-eff", "0.1",
+     "--r-eff", "0.01", "--v", "1", "--k-hertz", "1e6", "--value", "1e308"],  # likewise
     ["audit", "--engine", "lammps", "--damping", "velocity", "--e", "0.7", "--m-eff", "1e-320",
      "--r-eff", "0.01", "--v", "1", "--k-hertz", "1e6"],
     ["audit", "--engine", "lammps", "--damping", "velocity", "--e", "0.7", "--m-eff", "1e308",
