@@ -74,7 +74,7 @@ def test_calibrate_json(capsys):
         (["collide", "--model", "Foo", "--alpha", "0.3"], "valid models are"),
         (["collide", "--model", "KK", "--alpha", "abc"], "invalid float value"),
         (["collide", "--model", "KK", "--alpha", "-1"], "alpha must be"),
-        (["collide", "--model", "KK", "--alpha", "nan"], "alpha must be"),
+        (["collide", "--model", "KK", "--alpha", "nan"], "--alpha: must be a finite number"),
         (["collide", "--model", "KK", "--alpha", "0.3", "--beta", "1"], "takes no beta"),
         (["collide", "--model", "Jian", "--alpha", "0.3"], "needs beta"),
         (["collide", "--model", "power", "--alpha", "0.3"], "needs the exponent p"),

@@ -141,3 +141,43 @@ def test_bad_options_exit_2(tmp_path, capsys):
         assert main(["fit", *argv, "--quiet"]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and expected in err, err
+
+
+def test_time_unit_mistake_is_recognised(tmp_path, capsys):
+    """A recording in ms without a header, read as seconds, gives e = 1465 and a negative
+    residual overlap: refused with one line naming --time-unit ms; with it, the fit runs."""
+    from viscontact.fit.synthetic import example_recording
+
+    rows = [ln for ln in example_recording().read_text().splitlines()
+            if ln and not ln.startswith("#")][1:]  # no comments, no header: read as s, N
+    p = tmp_path / "noheader.csv"
+    p.write_text("\n".join(rows) + "\n")
+    argv = ["fit", str(p), *BALL, "--drop-height", "0.15", "--laws", "KK", "--quiet"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "e = 1465" in err
+    assert "reads right with --time-unit ms" in err
+    assert main(argv + ["--time-unit", "us"]) == 2  # too small an impulse: never reverses
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "reads right with --time-unit ms" in err
+    assert main(argv + ["--time-unit", "ms", "--json"]) == 0
+    assert 0.4 < json.loads(capsys.readouterr().out)["measured"]["e"] < 0.5
+
+
+def test_out_follows_the_file_rule(tmp_path, capsys):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "fit.json").write_text("the user's own\n")
+    argv = ["fit", "--example", *BALL, "--drop-height", "0.15", "--laws", "KK", "--quiet",
+            "--out", str(out)]
+    for extra in ([], ["--force"]):
+        assert main(argv + extra) == 2
+        assert "holds no earlier output" in capsys.readouterr().err
+    assert [p.name for p in out.iterdir()] == ["fit.json"]
+    assert (out / "fit.json").read_text() == "the user's own\n"
+    (out / "fit.json").unlink()
+    assert main(argv) == 0  # an empty directory
+    assert main(argv) == 2 and "--force" in capsys.readouterr().err
+    assert main(argv + ["--force"]) == 0
+    assert sorted(p.name for p in out.iterdir()) == [".viscontact-output.json", "fit.json",
+                                                     "fit_example_drop.png"]

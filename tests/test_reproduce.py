@@ -132,15 +132,26 @@ def fast(monkeypatch):
 def test_existing_report_needs_force(tmp_path, fast):
     out = tmp_path / "rep"
     reproduce(out, progress=None)
-    (out / "table1.csv").write_text("old\n")
     (out / "notes.txt").write_text("mine\n")
     with pytest.raises(ReportError, match="--force"):
         reproduce(out, progress=None)
-    assert (out / "table1.csv").read_text() == "old\n"
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    inode = (out / "table1.csv").stat().st_ino
     reproduce(out, force=True, progress=None)
-    assert (out / "table1.csv").read_text() == "new\n"
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    assert (out / "table1.csv").stat().st_ino != inode  # replaced, not left alone
     assert (out / "notes.txt").read_text() == "mine\n"  # never deleted
     assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]
+
+
+def test_edited_report_file_is_kept_even_with_force(tmp_path, fast):
+    out = tmp_path / "rep"
+    reproduce(out, progress=None)
+    (out / "table1.csv").write_text("my edits\n")
+    with pytest.raises(ReportError, match="table1.csv not written by viscontact reproduce"):
+        reproduce(out, force=True, progress=None)
+    assert (out / "table1.csv").read_text() == "my edits\n"
+    assert (out / "table2.csv").read_text() == "new\n"
 
 
 def test_foreign_files_are_never_overwritten(tmp_path, fast):
@@ -148,13 +159,24 @@ def test_foreign_files_are_never_overwritten(tmp_path, fast):
     out.mkdir()
     (out / "fig02.png").write_text("someone else's\n")
     for force in (False, True):
-        with pytest.raises(ReportError, match="not written by viscontact"):
+        with pytest.raises(ReportError, match="holds no earlier output"):
             reproduce(out, force=force, progress=None)
     assert [p.name for p in out.iterdir()] == ["fig02.png"]
     (out / "fig02.png").unlink()
-    (out / "readme.txt").write_text("x")  # unrelated files are fine
-    reproduce(out, progress=None)
-    assert (out / "readme.txt").exists() and (out / MARKER).exists()
+    reproduce(out, progress=None)  # an empty directory is fine
+    (out / "readme.txt").write_text("x")  # unrelated files beside a report are fine
+    reproduce(out, force=True, progress=None)
+    assert (out / "readme.txt").read_text() == "x" and (out / MARKER).exists()
+
+
+def test_root_and_foreign_outputs_refused(tmp_path, fast):
+    with pytest.raises(ReportError, match="root"):
+        reproduce("/", progress=None)
+    other = tmp_path / "other"
+    other.mkdir()
+    (other / MARKER).write_text('{"tool": "viscontact", "command": "fit", "files": {}}')
+    with pytest.raises(ReportError, match="viscontact fit"):
+        reproduce(other, force=True, progress=None)
 
 
 def test_failure_leaves_nothing(tmp_path, monkeypatch):

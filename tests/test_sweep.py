@@ -77,7 +77,9 @@ def test_cli_sweep_csv_json_plot(tmp_path):
     proc = run_cli("sweep", "--ball", "ILB", "--num", "3", "--csv", tmp_path / "s.csv",
                    "--json", tmp_path / "s.json", "--plot", tmp_path / "s.png")
     assert proc.returncode == 0, proc.stderr
-    rows = list(csv.DictReader(io.StringIO((tmp_path / "s.csv").read_text())))
+    marker, text = (tmp_path / "s.csv").read_text().split("\n", 1)
+    assert marker.startswith("# written by viscontact sweep ")  # the file rule's marker
+    rows = list(csv.DictReader(io.StringIO(text)))
     assert len(rows) == 6 * 3
     assert {r["model"] for r in rows} == set(vc.STUDY_MODELS)
     assert float(rows[0]["v [m/s]"]) == pytest.approx(0.30)

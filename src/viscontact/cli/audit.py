@@ -3,12 +3,17 @@
 from __future__ import annotations
 
 import argparse
+import os
 
 from ..audit.engines import ENGINES, audit_engine, get_preset
 from ..dimensional import ContactPair
 from ..audit.formulas import FORMULAS, audit_formula, get_formula
 from ..solvers import END_CRITERIA
-from .common import print_json
+from .. import outputs
+from .common import add_force_option, print_json
+
+
+DEFAULT_OUT = "viscontact-report/audit"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -43,8 +48,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     phys.add_argument("--e-eff", type=float, help="effective modulus E* [Pa] (or give --k-hertz)")
     phys.add_argument("--k-hertz", type=float, help="Hertz stiffness (4/3) E* sqrt(R*) [N/m^1.5]")
     phys.add_argument("--v", type=float, help="impact speed v_i [m/s]")
-    p.add_argument("--out", default="viscontact-report/audit", metavar="DIR",
-                   help="--all: output directory (default viscontact-report/audit)")
+    p.add_argument("--out", default=None, metavar="DIR",
+                   help=f"--all: output directory (default {DEFAULT_OUT}; a new or empty "
+                   "directory, or one holding an earlier audit with --force)")
+    add_force_option(p, "--all: the files of an earlier audit in --out")
     p.add_argument("--no-plots", action="store_true", help="--all: tables only")
     p.add_argument("--grid", type=float, nargs="+", metavar="E",
                    help="--all: target e values (default 0.05, 0.10, ..., 0.95, 0.99)")
@@ -68,8 +75,11 @@ def _audit(args: argparse.Namespace) -> int:
         return _all(args)
     if args.e is None:
         raise ValueError("--e (the target restitution coefficient) is required")
-    if args.grid:
-        raise ValueError("--grid only applies to --all")
+    only_all = [f for f, v in (("--grid", args.grid), ("--out", args.out),
+                               ("--no-plots", args.no_plots), ("--force", args.force))
+                if v not in (None, False)]
+    if only_all:
+        raise ValueError(f"{', '.join(only_all)} only apply to --all")
     if args.formula is not None:
         return _formula(args)
     return _engine(args)
@@ -86,6 +96,8 @@ def _no_engine_options(args: argparse.Namespace) -> None:
 
 def _formula(args: argparse.Namespace) -> int:
     _no_engine_options(args)
+    if args.p is not None and args.formula.strip().lower() != "first-order":
+        raise ValueError("--p only applies to --formula first-order (with --model power)")
     f = get_formula(args.formula, model=args.model, p=args.p)
     end = args.end or "force"
     r = audit_formula(f, args.e, end)
@@ -144,7 +156,11 @@ def _engine(args: argparse.Namespace) -> int:
 
 def _all(args: argparse.Namespace) -> int:
     extra = [f for f, v in (("--formula", args.formula), ("--engine", args.engine), ("--e", args.e),
-                            ("--value", args.value), ("--damping", args.damping)) if v is not None]
+                            ("--value", args.value), ("--damping", args.damping),
+                            ("--model", args.model), ("--p", args.p), ("--end", args.end))
+             if v is not None]
+    extra += [f for f, v in (("--limit-damping", args.limit_damping),
+                             ("--limit-force", args.limit_force)) if v]
     if extra:
         raise ValueError(f"--all takes no {', '.join(extra)} (it audits everything)")
     from ..audit.report import DEFAULT_GRID, DEFAULT_PHYSICAL, write_all
@@ -154,9 +170,14 @@ def _all(args: argparse.Namespace) -> int:
     for e in grid:
         if not 0.0 < e <= 1.0:
             raise ValueError(f"--grid values must be in (0, 1]; got {e!r}")
-    paths = write_all(args.out, grid=grid, physical=phys, plots=not args.no_plots)
+    names = ["formulas.csv", "engines.csv", "formulas.md", "engines.md", "summary.md"]
+    names += [] if args.no_plots else ["formulas.png", "engines.png"]
+    out = outputs.OutputDir(DEFAULT_OUT if args.out is None else args.out, "audit", args.force, expected=names)
+    with out:
+        staged = write_all(str(out.staging), grid=grid, physical=phys, plots=not args.no_plots)
+    paths = [str(out.out / os.path.basename(p)) for p in staged]
     if args.json:
-        print_json({"out": args.out, "files": paths})
+        print_json({"out": str(out.out), "files": paths})
     else:
         for path in paths:
             print(path)

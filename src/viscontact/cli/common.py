@@ -5,11 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import sys
-import tempfile
-from collections.abc import Callable
-from pathlib import Path
 from typing import Any
 
 from ..laws import MODELS
@@ -42,26 +38,51 @@ def print_json(obj: Any) -> None:
     sys.stdout.write("\n")
 
 
-def write_atomic(path: str, write: Callable[[Path], None]) -> None:
-    """Write a file through a temporary sibling so a failure leaves no partial file.
+def finite_float(text: str) -> float:
+    """argparse type of every float option: a finite number (nan and inf never mean anything)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"invalid float value: {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be a finite number, got {text!r}")
+    return value
 
-    ``write(tmp_path)`` creates the content; the temporary file keeps ``path``'s suffix.
-    """
-    target = Path(path)
-    if target.is_dir():
-        raise ValueError(f"{path} is a directory; give a file name")
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=target.suffix,
-                                   dir=target.parent if str(target.parent) else ".")
-    except OSError as exc:
-        raise ValueError(f"cannot write {path}: {exc.strerror or exc}") from None
-    os.close(fd)
-    try:
-        write(Path(tmp))
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, target)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+
+def add_force_option(parser: argparse.ArgumentParser, what: str) -> None:
+    parser.add_argument("--force", action="store_true",
+                        help=f"replace {what} written by an earlier run of this command (never a "
+                        "file it did not write)")
+
+
+def conflict(*pairs: tuple[str, object]) -> None:
+    """Refuse options given together that exclude each other: ``(flag, value)`` pairs."""
+    given = [flag for flag, v in pairs if v not in (None, False)]
+    if len(given) > 1:
+        raise ValueError(f"give {' or '.join(given)}, not both")
+
+
+NOTES: list[str] = []
+"""Notes for stderr, printed by :func:`viscontact.cli.main` only once the command succeeded
+(an error is one line, with no notes before it)."""
+
+
+def note(message: str) -> None:
+    NOTES.append(message)
+
+
+def once(cls: type[argparse.Action]) -> type[argparse.Action]:
+    """``cls`` refusing a second occurrence of its option: a repeated option would silently
+    drop the first value (``--alpha 1 --alpha 2``)."""
+
+    class Once(cls):  # type: ignore[valid-type, misc]
+        def __call__(self, parser, namespace, values, option_string=None):
+            seen = namespace.__dict__.setdefault("_given", set())
+            if self.dest in seen:
+                parser.error(f"{'/'.join(self.option_strings) or self.dest} given twice; "
+                             "give each option once")
+            seen.add(self.dest)
+            super().__call__(parser, namespace, values, option_string)
+
+    Once.__name__ = f"Once{cls.__name__}"
+    return Once

@@ -11,8 +11,9 @@ import numpy as np
 
 from ..calibration import alpha_from_e, restitution
 from ..collision import collide
+from .. import outputs
 from . import physical
-from .common import add_model_options, print_json
+from .common import add_force_option, add_model_options, conflict, print_json
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -24,7 +25,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--beta", type=float, default=None, help="relaxation time / T (Jian only)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--histories", action="store_true", help="with --json: include t, x, v, f")
-    p.add_argument("--plot", metavar="FILE.png", help="save x, x', F^ against t^ and the F^-x loop")
+    p.add_argument("--plot", metavar="FILE.png", help="save x, x', F^ against t^ and the F^-x loop "
+                   "as PNG (the name must end in .png; an existing file only with --force, and "
+                   "only one written by collide)")
+    add_force_option(p, "the --plot file")
     p.set_defaults(handler=_collide)
 
     p = sub.add_parser("restitution", help="e for one or more alpha values",
@@ -54,11 +58,18 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _collide(args: argparse.Namespace) -> int:
+    if args.histories and not args.json:
+        raise ValueError("--histories only goes with --json (it adds t, x, v, f to the object)")
+    if args.force and args.plot is None:
+        raise ValueError("--force only goes with --plot")
+    if args.plot is not None:
+        outputs.check_file(args.plot, "collide", args.force, "--plot", ".png")
     r = collide(args.model, args.alpha, beta=args.beta, p=args.p, end=args.end)
-    if args.plot:
+    if args.plot is not None:
         from ..plotting import plot_collision
 
-        plot_collision([r], args.plot)
+        outputs.write_png(args.plot, "collide", args.force, "--plot",
+                          lambda tmp: plot_collision([r], tmp))
     if args.json:
         print_json(r.to_dict(histories=args.histories))
         return 0
@@ -80,6 +91,7 @@ def _collide(args: argparse.Namespace) -> int:
 
 
 def _restitution(args: argparse.Namespace) -> int:
+    conflict(("--csv", args.csv), ("--json", args.json))
     alpha = np.array(args.alpha)
     beta = None
     if args.beta is not None:
@@ -116,6 +128,7 @@ def _calibrate(args: argparse.Namespace) -> int:
                          "or --ball)")
     if args.e is None:
         raise ValueError("give the target restitution coefficient --e")
+    physical.check_beta_applies(args.model, args.beta)
     a = alpha_from_e(args.model, args.e, beta=args.beta, p=args.p, end=args.end)
     if args.json:
         print_json({"model": args.model, "end": args.end, "e": args.e, "beta": args.beta,

@@ -4,16 +4,22 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
+import os
 import sys
 from pathlib import Path
 from typing import Any
 
-from ..dimensional import check_positive, drop_speed
+import numpy as np
+
+from .. import outputs
+from ..dimensional import HERTZ_TC, check_positive, drop_speed
 from ..fit.fitting import FIT_LAWS, GlobalFit, LawFit, Weights, fit_global, fit_laws
-from ..fit.recording import FORCE_UNITS, TIME_UNITS, Measured, measure, read_recording
+from ..fit.recording import (FORCE_UNITS, TIME_UNITS, Measured, RecordingError,
+                             measure, read_recording)
 from ..fit.synthetic import EXAMPLE, example_recording
 from ..laws import lookup
-from .common import finite_json, print_json, write_atomic
+from .common import add_force_option, finite_json, note, print_json
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -55,7 +61,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    "by F_max, delta_max, v_i (default 1 0 0: force only)")
     o = p.add_argument_group("output")
     o.add_argument("--out", metavar="DIR",
-                   help="write fit.json and the plots (fit_<recording>.png, global.png) into DIR")
+                   help="write fit.json and the plots (fit_<recording>.png, global.png) into DIR "
+                   "(a new or empty directory, or one holding an earlier fit with --force)")
+    add_force_option(o, "the files of an earlier fit in --out")
     o.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     o.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
     p.set_defaults(handler=_fit)
@@ -146,12 +154,12 @@ def _fit(args: argparse.Namespace) -> int:
     speeds = _speeds(args, len(paths))
     laws = _laws(args.laws)
     weights = Weights(*args.weights)
-    out = Path(args.out) if args.out else None
-    if out is not None and out.exists() and not out.is_dir():
-        raise ValueError(f"--out {out} is a file; give a directory")
+    if args.force and args.out is None:
+        raise ValueError("--force only goes with --out")
+    out = None if args.out is None else outputs.OutputDir(
+        args.out, "fit", args.force, expected=_output_names(paths))
     mass = check_positive("--mass", args.mass)
-    measured = [measure(read_recording(p, time_unit=args.time_unit, force_unit=args.force_unit),
-                        mass=mass, v=v, radius=args.radius) for p, v in zip(paths, speeds)]
+    measured = [_measure(p, v, mass, args) for p, v in zip(paths, speeds)]
     glob = len(measured) > 1
     bar = _progress(len(measured) * len(laws) + (len(laws) if glob else 0), args.quiet)
     results: list[list[LawFit]] = []
@@ -191,19 +199,86 @@ def _document(measured: list[Measured], results: list[list[LawFit]],
     return {"recordings": per, "global": [g.to_dict() for g in globals_]}
 
 
-def _write_outputs(out: Path, measured: list[Measured], results: list[list[LawFit]],
-                   globals_: list[GlobalFit], doc: dict[str, Any]) -> None:
+def _plot_names(paths: list[str]) -> list[str]:
+    """fit_<stem>.png per recording (fit_<stem>_2.png ... for repeated stems)."""
+    stems: dict[str, int] = {}
+    names = []
+    for path in paths:
+        stem = Path(path).stem
+        stems[stem] = stems.get(stem, 0) + 1
+        names.append(f"fit_{stem}" + (f"_{stems[stem]}" if stems[stem] > 1 else "") + ".png")
+    return names
+
+
+def _output_names(paths: list[str]) -> list[str]:
+    return _plot_names(paths) + (["global.png"] if len(paths) > 1 else []) + ["fit.json"]
+
+
+#: t_c / T of a recording outside this band is no impact of a ball of the mass and speed given
+#: (the undamped Hertz contact: 3.218; damped laws at either end stay well inside)
+_TC_BAND = (0.3, 30.0)
+#: how far e may exceed 1, and the residual overlap fall below 0 (relative to delta_max),
+#: from noise alone
+_SLACK = 0.05
+
+
+def _implausible(m: Measured) -> list[str]:
+    """What in a measurement is physically impossible (empty when it is plausible)."""
+    bad = []
+    if m.e > 1.0 + _SLACK:
+        bad.append(f"e = {m.e:.4g} > 1")
+    if m.residual < -_SLACK * m.dmax:
+        bad.append(f"a negative residual overlap ({m.residual * 1e3:.4g} mm)")
+    ratio = m.tc / (m.mass ** 2 / (m.k_hertz ** 2 * m.v)) ** 0.2 if m.k_hertz > 0 else math.inf
+    if not _TC_BAND[0] <= ratio <= _TC_BAND[1]:
+        bad.append(f"t_c = {m.tc * 1e3:.4g} ms, {ratio / HERTZ_TC:.3g} times the Hertz contact "
+                   "time of the k_Hertz measured")
+    return bad
+
+
+def _measure(path: str, v: float, mass: float, args: argparse.Namespace) -> Measured:
+    """measure(), refusing a physically impossible result; when the file reads right with
+    another --time-unit (its header gives none), the one line names it."""
+    rec = read_recording(path, time_unit=args.time_unit, force_unit=args.force_unit)
+    try:
+        m = measure(rec, mass=mass, v=v, radius=args.radius)
+    except RecordingError as exc:
+        problem, error = str(exc), exc
+    else:
+        bad = _implausible(m)
+        if not bad:
+            return m
+        problem = f"{path}: {' and '.join(bad)}: impossible for an impact"
+        error = None
+    for unit in ("s", "ms", "us"):
+        if unit == (args.time_unit or "s"):
+            continue
+        other = read_recording(path, time_unit=unit, force_unit=args.force_unit)
+        if np.array_equal(other.t, rec.t):
+            break  # the header gives the unit: --time-unit changes nothing
+        try:
+            right = not _implausible(measure(other, mass=mass, v=v))
+        except ValueError:
+            right = False
+        if right:
+            raise RecordingError(f"{problem}; the file reads right with --time-unit {unit} "
+                                 f"(or a header such as 'time [{unit}],force [N]')")
+    if error is not None:
+        raise error
+    raise RecordingError(f"{problem}; check --time-unit, --force-unit, --mass and the impact "
+                         "speed")
+
+
+def _write_outputs(out: outputs.OutputDir, measured: list[Measured],
+                   results: list[list[LawFit]], globals_: list[GlobalFit],
+                   doc: dict[str, Any]) -> None:
     from ..fit.plots import plot_fit, plot_global
 
-    out.mkdir(parents=True, exist_ok=True)
-    stems: dict[str, int] = {}
-    for m, fits in zip(measured, results):
-        stem = Path(m.path).stem
-        stems[stem] = stems.get(stem, 0) + 1
-        name = f"fit_{stem}" + (f"_{stems[stem]}" if stems[stem] > 1 else "") + ".png"
-        write_atomic(str(out / name), lambda tmp, m=m, fits=fits: plot_fit(m, fits, tmp))
-    if globals_:
-        write_atomic(str(out / "global.png"), lambda tmp: plot_global(globals_, tmp))
-    text = json.dumps(finite_json(doc), indent=2) + "\n"
-    write_atomic(str(out / "fit.json"), lambda tmp: tmp.write_text(text, encoding="utf-8"))
-    print(f"fit.json and plots written to {out}/", file=sys.stderr)
+    with out:
+        for name, m, fits in zip(_plot_names([m.path for m in measured]), measured, results):
+            plot_fit(m, fits, out.staging / name)
+        if globals_:
+            plot_global(globals_, out.staging / "global.png")
+        text = json.dumps(finite_json(doc), indent=2) + "\n"
+        (out.staging / "fit.json").write_text(text, encoding="utf-8")
+    note(f"fit.json and plots written to {out.out}{os.sep}")

@@ -10,9 +10,8 @@ from __future__ import annotations
 import argparse
 import csv
 import io
-import json
+import os
 import sys
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -21,7 +20,8 @@ from ..dimensional import check_positive, contact_pair, drop_speed
 from ..experiment import PhysicalCalibration, ball, calibrate_physical, load_balls
 from ..laws import STUDY_MODELS, lookup
 from ..sweep import SWEEP_FIELDS, velocity_sweep
-from .common import add_model_options, finite_json, print_json, write_atomic
+from .. import outputs
+from .common import add_force_option, add_model_options, finite_json, note, print_json
 
 _PHYSICAL = ("ball", "mass", "radius", "k_hertz", "modulus", "poisson", "mass2", "radius2",
              "modulus2", "poisson2", "v", "drop_height")
@@ -58,8 +58,23 @@ def has_physical(args: argparse.Namespace) -> bool:
     return any(getattr(args, k, None) is not None for k in _PHYSICAL)
 
 
+def check_beta_applies(model: str | None, beta: float | None) -> None:
+    """Refuse an explicit --beta for a law without a relaxation time (it would be ignored)."""
+    if model is not None and beta is not None and not lookup(model).needs_beta:
+        raise ValueError(f"--beta only applies to a law with a relaxation time (Jian); "
+                         f"{lookup(model).name} has none")
+
+
 def _contact(args: argparse.Namespace) -> tuple[float, float, float | None, Any]:
     """(m*, k_Hertz, v or None, ball or None) from the options."""
+    if args.k_hertz is not None:
+        unused = [f for f, v in (("--radius", args.radius), ("--radius2", args.radius2),
+                                 ("--nu2", args.poisson2)) if v is not None]
+        if unused:
+            raise ValueError(f"{', '.join(unused)} only serve to compute k_Hertz from --E and "
+                             "--nu; with --k-hertz they would be ignored")
+    if args.poisson2 is not None and args.modulus2 is None:
+        raise ValueError("--nu2 goes with --E2 (the second body's elastic constants)")
     b = ball(args.ball) if args.ball is not None else None
     mass = args.mass if args.mass is not None else (b.mass if b else None)
     radius = args.radius if args.radius is not None else (b.radius if b else None)
@@ -91,7 +106,7 @@ def _models(args: argparse.Namespace, beta: float | None) -> list[str]:
     models = list(STUDY_MODELS)
     if beta is None:
         models.remove("Jian")
-        print("note: Jian skipped (give --beta, or --model Jian --beta B)", file=sys.stderr)
+        note("note: Jian skipped (give --beta, or --model Jian --beta B)")
     return models
 
 
@@ -102,6 +117,7 @@ def _calibrations(args: argparse.Namespace) -> tuple[list[PhysicalCalibration], 
     e = args.e if args.e is not None else (b.e if b else None)
     if e is None:
         raise ValueError("give the measured restitution coefficient --e")
+    check_beta_applies(args.model, args.beta)
     beta = args.beta if args.beta is not None else (b.beta if b else None)
     cals = []
     for m in _models(args, beta):
@@ -141,45 +157,58 @@ def calibrate_physical_cmd(args: argparse.Namespace) -> int:
 
 def _speeds(args: argparse.Namespace) -> np.ndarray:
     if args.speeds is not None:
-        if args.v_min is not None or args.v_max is not None:
-            raise ValueError("give --speeds or --v-min/--v-max, not both")
+        if args.v_min is not None or args.v_max is not None or args.num is not None:
+            raise ValueError("give --speeds or --v-min/--v-max/--num, not both")
         v = np.array(args.speeds, dtype=float)
     else:
         lo = 0.30 if args.v_min is None else args.v_min
         hi = 2.60 if args.v_max is None else args.v_max
+        num = 24 if args.num is None else args.num
         check_positive("--v-min", lo)
         check_positive("--v-max", hi)
         if hi < lo:
             raise ValueError(f"--v-max ({hi:g}) is below --v-min ({lo:g})")
-        if not 1 <= args.num <= 10000:
-            raise ValueError(f"--num must be between 1 and 10000, got {args.num}")
-        v = np.linspace(lo, hi, args.num)
+        if not 1 <= num <= 10000:
+            raise ValueError(f"--num must be between 1 and 10000, got {num}")
+        if num == 1 and hi != lo:
+            raise ValueError("--num 1 gives one speed: give --speeds V (or --num 2 or more)")
+        v = np.linspace(lo, hi, num)
     for x in v:
         check_positive("impact speed", x)
     return v
 
 
-def _check_output(path: str | None) -> None:
-    """Refuse an output file whose directory is missing, before any work is done."""
-    if path is None or path == "-":
-        return
-    target = Path(path)
-    parent = target.parent if str(target.parent) else Path(".")
-    if target.is_dir():
-        raise ValueError(f"{path} is a directory; give a file name")
-    if not parent.is_dir():
-        raise ValueError(f"cannot write {path}: no directory {parent}")
+def _sweep_outputs(args: argparse.Namespace) -> list[tuple[str, str]]:
+    """(path, kind) of each output, checked before any work ('-': stdout)."""
+    outs = [(path, kind) for path, kind in ((args.csv, "csv"), (args.json, "json"),
+                                            (args.plot, "plot")) if path is not None]
+    if [p for p, _ in outs].count("-") > 1:
+        raise ValueError("only one of --csv - and --json - can go to stdout")
+    files = [os.path.abspath(p) for p, k in outs if p != "-"]
+    if len(set(files)) < len(files):
+        raise ValueError("--csv, --json and --plot must name different files")
+    for path, kind in outs:
+        if kind == "plot" or path != "-":
+            outputs.check_file(path, "sweep", args.force, f"--{kind}",
+                               ".png" if kind == "plot" else None)
+    if args.force and not files:
+        raise ValueError("--force only goes with --csv FILE, --json FILE or --plot FILE")
+    return outs or [("-", "csv")]
 
 
 def _sweep(args: argparse.Namespace) -> int:
-    for path in (args.csv, args.json, args.plot):
-        _check_output(path)
+    outs = _sweep_outputs(args)
     speeds = _speeds(args)
     if args.c is not None:
         if args.model is None:
             raise ValueError("--c needs --model (c's unit depends on the law)")
         if args.e is not None:
             raise ValueError("give --c (and --tau) or --e to calibrate, not both")
+        if args.beta is not None:
+            raise ValueError("--beta goes with --e (calibration); with --c give --tau [s]")
+        if args.v is not None or args.drop_height is not None:
+            raise ValueError("--v/--drop-height give the speed of a calibration (with --e); with "
+                             "--c the speeds are --speeds or --v-min/--v-max/--num")
         m_eff, k, _v, b = _contact(args)
         setups = [(lookup(args.model).name, args.c, args.tau)]
         measured = None
@@ -192,26 +221,28 @@ def _sweep(args: argparse.Namespace) -> int:
         measured = (b.v_in, b.e, b.tc) if b is not None else None
     results = [velocity_sweep(m, speeds, m_eff=m_eff, k_hertz=k, c=c, tau=tau, p=args.p,
                               end=args.end) for m, c, tau in setups]
-    outputs = [(path, kind) for path, kind in ((args.csv, "csv"), (args.json, "json"),
-                                               (args.plot, "plot")) if path is not None]
-    if not outputs:
-        outputs = [("-", "csv")]
-    for path, kind in outputs:
+    for path, kind in outs:
         if kind == "plot":
             from ..plotting import plot_sweeps
 
             title = ("Velocity sweep" + (f", {b.key}" if b else "")
                      + ": m*, k_Hertz, c and tau held fixed")
-            write_atomic(path, lambda tmp: plot_sweeps(results, tmp, title, measured))
-            print(f"plot written to {path}", file=sys.stderr)
+            outputs.write_png(path, "sweep", args.force, "--plot",
+                              lambda tmp: plot_sweeps(results, tmp, title, measured))
+            note(f"plot written to {path}")
             continue
-        text = _sweep_csv(results) if kind == "csv" else json.dumps(
-            finite_json({"sweeps": [r.to_dict() for r in results]}), indent=2) + "\n"
+        doc = finite_json({"sweeps": [r.to_dict() for r in results]})
         if path == "-":
-            sys.stdout.write(text)
+            if kind == "csv":
+                sys.stdout.write(_sweep_csv(results))
+            else:
+                print_json(doc)
+        elif kind == "csv":
+            outputs.write_text(path, "sweep", args.force, "--csv", _sweep_csv(results))
+            note(f"CSV written to {path}")
         else:
-            write_atomic(path, lambda tmp, t=text: tmp.write_text(t, encoding="utf-8"))
-            print(f"{kind.upper()} written to {path}", file=sys.stderr)
+            outputs.write_json(path, "sweep", args.force, "--json", doc)
+            note(f"JSON written to {path}")
     return 0
 
 
@@ -256,11 +287,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--speeds", type=float, nargs="+", metavar="M/S", help="impact speeds [m/s]")
     s.add_argument("--v-min", type=float, metavar="M/S", help="lowest impact speed [m/s]")
     s.add_argument("--v-max", type=float, metavar="M/S", help="highest impact speed [m/s]")
-    s.add_argument("--num", type=int, default=24, help="number of speeds (default 24)")
+    s.add_argument("--num", type=int, default=None, help="number of speeds (default 24)")
     o = p.add_argument_group("output (default: CSV on stdout)")
     o.add_argument("--csv", metavar="FILE", help="write CSV ('-': stdout)")
     o.add_argument("--json", metavar="FILE", help="write JSON ('-': stdout)")
-    o.add_argument("--plot", metavar="FILE.png", help="plot e, t_c, F_max against v")
+    o.add_argument("--plot", metavar="FILE.png",
+                   help="plot e, t_c, F_max against v as PNG (the name must end in .png)")
+    add_force_option(p, "the --csv, --json and --plot files")
     p.set_defaults(handler=_sweep)
 
     p = sub.add_parser(
@@ -270,6 +303,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", default="viscontact-report", metavar="DIR",
                    help="report directory (default: viscontact-report)")
     p.add_argument("--force", action="store_true",
-                   help="replace an earlier report in DIR (only its own files)")
+                   help="replace an earlier report in DIR (only its own, unchanged files; a "
+                   "directory that is not empty and holds no report is always refused)")
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
     p.set_defaults(handler=_reproduce)

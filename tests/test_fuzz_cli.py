@@ -1,0 +1,540 @@
+"""Table-driven fuzz test of the command line (issue 13): every command, every option.
+
+Each case calls ``viscontact.cli.main`` in-process (stdout and stderr captured, a deadline
+against hangs) from a directory that holds the user's own files, and asserts the rules of
+README "Command line": exit 0 with valid output (JSON that parses, no nan), or exit 2 with
+exactly one line on stderr and no traceback; after every call every user file is byte-identical.
+The cases come from the parser itself (``OPTION_TABLE``: every option of every command, so a
+new option is fuzzed without editing this file): each numeric option set to every value of
+``VALUES``, each flag added, each name option given an unknown name or nothing, each output
+option pointed at the user's files and directories, each option repeated or left without its
+value; then the conflicting combinations listed in ``NONSENSE`` must exit 2.  A few
+subprocess calls check what only a real process shows: the exit status of a closed pipe and
+the absence of warnings.  ``scripts/fuzz_cli.py`` runs the same harness on random
+combinations at a larger scale.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import io
+import json
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pytest
+
+from viscontact.cli import build_parser, main
+
+from conftest import SRC, run_cli
+
+#: values every numeric option is given
+VALUES = ("nan", "inf", "-inf", "-1", "0", "1e-320", "1e308", "", "abc", "1e-3")
+#: the user's own files in the working directory: never to be touched
+USER_FILES = {
+    "mine.csv": b"time [ms],force [N]\n0,0\n",
+    "mine.png": b"\x89PNG\r\n\x1a\n a user's picture",
+    "plot.png": b"a user's plot.png",
+    "out.csv": b"a user's out.csv",
+    "out.json": b'{"mine": true}',
+    "D.png": b"beside the directory D",
+    "D/data.txt": b"a user's data",
+    "D/fit.json": b"a user's fit.json",
+    "D/formulas.csv": b"a user's formulas.csv",
+    "viscontact-report/notes.txt": b"a user's notes in the default report directory",
+}
+USER_DIRS = ("empty",)
+#: values of output options: the user's files and directories, odd names, a new name
+PATHS = {
+    "file": ("plot.png", "mine.png", "mine.csv", "D", "D.png", "empty", "", "-", "x", "/",
+             "no/such/dir/x.png", "new.png", "new.png/"),
+    "dir": ("D", "D.png", "mine.csv", "", "/", ".", "viscontact-report", "empty/sub"),
+}
+#: a valid, quick call of each command (the fuzzed options are changed or added to these)
+BASES = {
+    "collide": ["collide", "--model", "KK", "--alpha", "0.3"],
+    "collide Jian": ["collide", "--model", "Jian", "--alpha", "0.3", "--beta", "0.5", "--json"],
+    "collide power": ["collide", "--model", "power", "--p", "0.75", "--alpha", "0.3"],
+    "restitution": ["restitution", "--model", "KK", "--alpha", "0.1", "0.2"],
+    "restitution Jian": ["restitution", "--model", "Jian", "--alpha", "0.1", "--beta", "0.5",
+                         "--json"],
+    "calibrate": ["calibrate", "--model", "Hunt", "--e", "0.5"],
+    "calibrate physical": ["calibrate", "--model", "KK", "--mass", "0.1547", "--k-hertz",
+                           "1.688e6", "--v", "1.716", "--e", "0.463"],
+    "calibrate E nu": ["calibrate", "--model", "Li", "--mass", "0.1", "--radius", "0.03", "--E",
+                       "1e7", "--nu", "0.4", "--drop-height", "0.1", "--e", "0.6", "--json"],
+    "sweep c": ["sweep", "--model", "KK", "--mass", "0.1547", "--k-hertz", "1.688e6", "--c", "500",
+                "--num", "3"],
+    "sweep e": ["sweep", "--model", "Jian", "--ball", "OLB", "--speeds", "0.5", "1"],
+    "audit formula": ["audit", "--formula", "flores", "--e", "0.5"],
+    "audit engine": ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "0.7"],
+    "audit physical": ["audit", "--engine", "lammps", "--damping", "velocity", "--e", "0.7",
+                       "--m-eff", "0.1", "--r-eff", "0.01", "--v", "1", "--k-hertz", "1e6"],
+    "audit all": ["audit", "--all", "--grid", "0.5", "--no-plots", "--out", "audits/new"],
+    "fit": ["fit", "--example", "--mass", "0.1547", "--drop-height", "0.15", "--laws", "KK",
+            "--quiet", "--json"],
+}
+#: option combinations that mean nothing or conflict: each must exit 2 with one line
+NONSENSE = [
+    ["calibrate", "--mass", "0.1547", "--k-hertz", "1.688e6", "--v", "1.716", "--e", "0.463",
+     "--model", "KK", "--beta", "0.5"],
+    ["calibrate", "--model", "KK", "--e", "0.5", "--beta", "0.5"],
+    ["calibrate", "--mass", "0.1", "--k-hertz", "1e6", "--radius", "0.03", "--v", "1", "--e", "0.5"],
+    ["sweep", "--ball", "OLB", "--speeds", "1", "--num", "5"],
+    ["sweep", "--ball", "OLB", "--speeds", "1", "--v-min", "0.5"],
+    ["sweep", "--ball", "OLB", "--num", "1", "--v-min", "0.5", "--v-max", "1"],
+    ["sweep", "--model", "KK", "--mass", "0.1", "--k-hertz", "1e6", "--c", "5", "--beta", "0.5"],
+    ["sweep", "--ball", "OLB", "--csv", "-", "--json", "-"],
+    ["sweep", "--model", "KK", "--mass", "0.1", "--k-hertz", "1e6", "--c", "5", "--v", "1"],
+    ["audit", "--formula", "flores", "--e", "0.5", "--p", "0.5"],
+    ["sweep", "--ball", "OLB", "--csv", "same.out", "--json", "same.out"],
+    ["sweep", "--ball", "OLB", "--force"],
+    ["collide", "--model", "KK", "--alpha", "0.3", "--histories"],
+    ["collide", "--model", "KK", "--alpha", "0.3", "--force"],
+    ["collide", "--model", "KK", "--alpha", "0.3", "--plot", ""],
+    ["collide", "--model", "KK", "--alpha", "0.3", "--plot", "D"],
+    ["collide", "--model", "KK", "--alpha", "0.3", "--plot", "plot.png", "--force"],
+    ["collide", "--model", "KK", "--alpha", "0.3", "--alpha", "0.4"],
+    ["collide", "--model", "KK", "--alpha", "0.3", "--beta", "1"],
+    ["restitution", "--model", "KK", "--alpha", "0.3", "--csv", "--json"],
+    ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "0.7", "--value", "nan"],
+    ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "0.7", "--out", "x"],
+    ["audit", "--formula", "flores", "--e", "0.5", "--no-plots"],
+    ["audit", "--all", "--model", "KK"],
+    ["audit", "--all", "--out", "D"],
+    ["fit", "--example", "--mass", "0.1547", "--drop-height", "0.15", "--force"],
+    ["fit", "--example", "--mass", "0.1547", "--drop-height", "0.15", "--out", "D"],
+    ["fit", "--example", "--mass", "0.1547", "--drop-height", "0.15", "--laws", "KK", "--laws", "Li"],
+    ["fit", "mine.csv", "--mass", "0.1547", "--drop-height", "0.15"],
+    ["reproduce", "--out", "/"],
+    ["reproduce", "--out", "D", "--force"],
+    ["reproduce", "--out", "viscontact-report"],
+    ["reproduce", "--out", ""],
+    ["reproduce", "--out", "mine.csv"],
+    ["reproduce", "--quiet", "--quiet"],
+    ["reproduce", "--bogus"],
+    ["frobnicate"],
+    [],
+]
+#: calls that break the rules inside the library (issue 13's library side: the parameter
+#: domain, checked before any solver runs, is being added beside this test); each is expected
+#: to fail until then (not strict: once fixed it passes, and the entry can go)
+LIBRARY_SIDE = [
+    ["collide", "--model", "KK", "--alpha", "1e308"],
+    ["collide", "--model", "power", "--p", "1e308", "--alpha", "0.3"],
+    ["collide", "--model", "power", "--p", "0.75", "--alpha", "1e308"],
+    ["calibrate", "--model", "KK", "--mass", "0.1547", "--k-hertz", "1e-320", "--v", "1.716",
+     "--e", "0.463"],
+    ["sweep", "--model", "KK", "--mass", "1e-320", "--k-hertz", "1.688e6", "--c", "500", "--num", "3"],
+    ["sweep", "--model", "KK", "--mass", "0.1547", "--k-hertz", "1e-320", "--c", "500", "--num", "3"],
+    ["sweep", "--model", "KK", "--mass", "0.1547", "--k-hertz", "1e308", "--c", "500", "--num", "3"],
+    ["sweep", "--model", "KK", "--mass", "0.1547", "--k-hertz", "1.688e6", "--c", "500", "--num",
+     "3", "--mass2", "1e-320"],
+    ["sweep", "--model", "KK", "--mass", "0.1547", "--k-hertz", "1.688e6", "--c", "500", "--num",
+     "3", "--v-max", "1e308"],
+    ["sweep", "--model", "Jian", "--ball", "OLB", "--speeds", "0.5", "1", "--mass", "1e-320"],
+    ["sweep", "--model", "Jian", "--ball", "OLB", "--speeds", "0.5", "1", "--k-hertz", "1e-320"],
+    ["sweep", "--model", "Jian", "--ball", "OLB", "--speeds", "0.5", "1", "--k-hertz", "1e308"],
+    ["sweep", "--model", "Jian", "--ball", "OLB", "--speeds", "0.5", "1", "--mass2", "1e-320"],
+    ["sweep", "--model", "Jian", "--ball", "OLB", "--speeds", "1e308"],
+    ["audit", "--formula", "flores", "--e", "1e-320"],
+    ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "1e-320"],
+    ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "1e-3"],
+    ["audit", "--formula", "flores", "--e", "1e-3"],  # nan once alpha has a domain (1598 > max)
+    ["audit", "--engine", "lammps", "--damping", "velocity", "--e", "0.7", "--m-eff", "0.1",
+     "--r-eff", "0.01", "--v", "1", "--k-hertz", "1e6", "--value", "1e308"],  # likewise
+    ["audit", "--engine", "lammps", "--damping", "velocity", "--e", "0.7", "--m-eff", "1e-320",
+     "--r-eff", "0.01", "--v", "1", "--k-hertz", "1e6"],
+    ["audit", "--engine", "lammps", "--damping", "velocity", "--e", "0.7", "--m-eff", "1e308",
+     "--r-eff", "0.01", "--v", "1", "--k-hertz", "1e6"],
+    ["audit", "--engine", "lammps", "--damping", "velocity", "--e", "0.7", "--m-eff", "0.1",
+     "--r-eff", "0.01", "--v", "1", "--k-hertz", "1e-320"],
+    ["audit", "--engine", "lammps", "--damping", "velocity", "--e", "0.7", "--m-eff", "0.1",
+     "--r-eff", "0.01", "--v", "1", "--k-hertz", "1e308"],
+    ["audit", "--engine", "lammps", "--damping", "velocity", "--e", "0.7", "--m-eff", "0.1",
+     "--r-eff", "0.01", "--v", "1e308", "--k-hertz", "1e6"],
+    ["fit", "--example", "--mass", "1e-320", "--drop-height", "0.15", "--laws", "KK", "--quiet",
+     "--json"],
+    ["fit", "--example", "--mass", "0.1547", "--drop-height", "1e-320", "--laws", "KK", "--quiet",
+     "--json"],
+]
+#: a deadline per call against hangs (generous: the first call of a kind may compile)
+DEADLINE_S = 120.0
+
+
+class Deadline(BaseException):
+    """A call ran past its deadline (BaseException: the command line must not catch it)."""
+
+
+@dataclass
+class Outcome:
+    argv: list[str]
+    status: int | None
+    out: str
+    err: str
+    seconds: float
+    problems: list[str] = field(default_factory=list)
+
+
+def _on_alarm(signum, frame):
+    raise Deadline()
+
+
+def call(argv: list[str], deadline: float = DEADLINE_S) -> Outcome:
+    """``main(argv)`` in-process with captured output and a deadline; the rules checked."""
+    out, err = io.StringIO(), io.StringIO()
+    old = signal.signal(signal.SIGALRM, _on_alarm)
+    signal.setitimer(signal.ITIMER_REAL, deadline)
+    t0 = time.perf_counter()
+    status: int | None
+    try:
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            try:
+                status = main(list(argv))
+            except SystemExit as exc:  # argparse: usage errors, --help
+                status = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
+    except Deadline:
+        status = None
+    except BaseException as exc:  # noqa: BLE001 - any escape is a finding, reported below
+        status = -1
+        err.write(f"Traceback (escaped main): {type(exc).__name__}: {exc}\n")
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+    o = Outcome(list(argv), status, out.getvalue(), err.getvalue(), time.perf_counter() - t0)
+    o.problems = rule_problems(o, deadline)
+    return o
+
+
+_NAN = re.compile(r"(?<![\w.])nan(?![\w])", re.IGNORECASE)
+
+
+def rule_problems(o: Outcome, deadline: float = DEADLINE_S) -> list[str]:
+    """What in one outcome breaks the rules (empty: it obeys them)."""
+    if o.status is None:
+        return [f"hang: still running after {deadline:g} s"]
+    bad = []
+    lines = o.err.splitlines()
+    if "Traceback" in o.err:
+        bad.append("traceback")
+    if o.status == 2:
+        if len(lines) != 1:
+            bad.append(f"error in {len(lines)} lines on stderr")
+        elif not lines[0].startswith("viscontact"):
+            bad.append("error line does not start with 'viscontact'")
+    elif o.status == 0:
+        if "--help" not in o.argv and _NAN.search(o.out):
+            bad.append("nan in the output")
+        if "--json" in o.argv and o.out.lstrip().startswith("{"):
+            try:
+                doc = json.loads(o.out, parse_constant=lambda c: (_ for _ in ()).throw(ValueError(c)))
+            except ValueError as exc:
+                bad.append(f"invalid JSON on stdout: {exc}")
+            else:
+                bad += [f"{k} = {v!r} outside [0, 1]" for k, v in _restitutions(doc)
+                        if not 0.0 <= v <= 1.0]
+    else:
+        bad.append(f"exit status {o.status}" + (f": {lines[-1]}" if lines else ""))
+    return bad
+
+
+def _restitutions(doc) -> list[tuple[str, float]]:
+    """Every restitution coefficient in a JSON document (keys e, delivered_e, e_fit)."""
+    found = []
+    if isinstance(doc, dict):
+        for k, v in doc.items():
+            if k in ("e", "delivered_e", "e_fit") and isinstance(v, (int, float)):
+                found.append((k, float(v)))
+            elif k in ("e", "e_fit") and isinstance(v, list):
+                found += [(k, float(x)) for x in v if isinstance(x, (int, float))]
+            else:
+                found += _restitutions(v)
+    elif isinstance(doc, list):
+        for v in doc:
+            found += _restitutions(v)
+    return found
+
+
+# ------------------------------------------------------------------ the user's files
+
+def make_user_files(root: Path) -> dict[str, bytes]:
+    for name, data in USER_FILES.items():
+        (root / name).parent.mkdir(parents=True, exist_ok=True)
+        (root / name).write_bytes(data)
+    for d in USER_DIRS:
+        (root / d).mkdir(exist_ok=True)
+    return dict(USER_FILES)
+
+
+def lost_files(root: Path, files: dict[str, bytes]) -> list[str]:
+    """User files changed or gone, and user directories gone."""
+    lost = [n for n, data in files.items()
+            if not (root / n).is_file() or (root / n).read_bytes() != data]
+    return lost + [d + "/" for d in USER_DIRS if not (root / d).is_dir()]
+
+
+# ------------------------------------------------------------------ the table
+
+@dataclass(frozen=True)
+class Option:
+    command: str
+    flag: str
+    kind: str  # "number", "flag", "choice", "name", "file", "dir", "positional"
+    nargs: int | str | None
+    choices: tuple[str, ...] = ()
+
+
+def _option_kind(command: str, a: argparse.Action) -> str:
+    if a.nargs == 0:
+        return "flag"
+    if a.type in (float, int):
+        return "number"
+    if a.choices:
+        return "choice"
+    if a.dest in ("plot",) or (command == "sweep" and a.dest in ("csv", "json")):
+        return "file"
+    if a.dest == "out":
+        return "dir"
+    return "name"
+
+
+def option_table() -> list[Option]:
+    """Every option of every command, from the parser (help and version excluded)."""
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    table = []
+    for command, p in sub.choices.items():
+        for a in p._actions:
+            if isinstance(a, (argparse._HelpAction, argparse._VersionAction)):
+                continue
+            if not a.option_strings:
+                table.append(Option(command, a.dest, "positional", a.nargs))
+                continue
+            table.append(Option(command, a.option_strings[0], _option_kind(command, a), a.nargs,
+                                tuple(a.choices or ())))
+    return table
+
+
+def _count(nargs) -> int:
+    return nargs if isinstance(nargs, int) else 1
+
+
+def with_option(base: list[str], flag: str, values: list[str]) -> list[str]:
+    """``base`` with ``flag`` set to ``values`` (replacing its values there, or appended)."""
+    argv = list(base)
+    if flag in argv:
+        i = argv.index(flag) + 1
+        j = i
+        while j < len(argv) and not argv[j].startswith("--"):
+            j += 1
+        return argv[:i] + values + argv[j:]
+    return argv + [flag] + values
+
+
+def table_cases() -> list[list[str]]:
+    """The cases: the bases, every option of their command fuzzed, and the nonsense."""
+    cases: list[list[str]] = [list(b) for b in BASES.values()]
+    options = option_table()
+    for base in BASES.values():
+        command = base[0]
+        for opt in (o for o in options if o.command == command):
+            if opt.kind == "positional":
+                cases += [base + [v] for v in ("mine.csv", "D", "", "missing.csv")]
+                continue
+            if opt.kind == "flag":
+                cases.append(base + [opt.flag])
+                continue
+            n = _count(opt.nargs)
+            if opt.kind == "number":
+                cases += [with_option(base, opt.flag, [v] * n) for v in VALUES]
+            elif opt.kind == "choice":
+                cases += [with_option(base, opt.flag, [v]) for v in (*opt.choices, "bogus", "")]
+            elif opt.kind in ("file", "dir"):
+                for v in PATHS[opt.kind]:
+                    cases += [with_option(base, opt.flag, [v]),
+                              with_option(base, opt.flag, [v]) + ["--force"]]
+            else:
+                cases += [with_option(base, opt.flag, [v] * n) for v in ("Foo", "")]
+            cases.append(base + [opt.flag])  # no value
+            if opt.flag in base:
+                i = base.index(opt.flag)
+                cases.append(base + base[i: i + 1 + n])  # repeated
+    cases += [list(b) + ["--bogus"] for b in BASES.values()]
+    cases += [[b[0], "--help"] for b in BASES.values()]
+    cases += NONSENSE
+    unique = {tuple(c): c for c in cases}
+    for known in LIBRARY_SIDE:
+        unique.pop(tuple(known), None)
+    return list(unique.values())
+
+
+# ------------------------------------------------------------------ the tests
+
+@pytest.fixture
+def userdir(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    return tmp_path, make_user_files(tmp_path)
+
+
+def test_every_option_of_every_command_is_in_the_table():
+    table = option_table()
+    commands = {o.command for o in table}
+    assert commands == {"collide", "restitution", "calibrate", "sweep", "reproduce", "audit", "fit"}
+    covered = {b[0] for b in BASES.values()} | {"reproduce"}
+    assert covered == commands
+    assert all(o.kind != "number" or o.nargs in (None, "+", 3) for o in table)
+
+
+def test_table_obeys_the_rules(userdir):
+    root, files = userdir
+    cases = table_cases()
+    assert len(cases) > 700
+    failures = []
+    for argv in cases:
+        o = call(argv)
+        lost = lost_files(root, files)
+        if o.problems or lost:
+            failures.append(f"{' '.join(map(repr, argv))}: {'; '.join(o.problems + [f'lost {lost}'] * bool(lost))}")
+            make_user_files(root)
+        if argv in list(BASES.values()) and o.status != 0:
+            failures.append(f"{argv}: the valid base call failed: {o.err.strip()}")
+    assert not failures, f"{len(failures)} of {len(cases)} calls broke the rules:\n" + "\n".join(
+        failures[:40])
+
+
+@pytest.mark.xfail(reason="library side of issue 13 (parameter domain), fixed beside this test",
+                   strict=False)
+@pytest.mark.parametrize("argv", LIBRARY_SIDE, ids=lambda a: " ".join(a)[:70])
+def test_library_side(userdir, argv):
+    root, files = userdir
+    o = call(argv)
+    assert lost_files(root, files) == []
+    assert not o.problems, o.problems
+
+
+@pytest.mark.parametrize("argv", NONSENSE, ids=lambda a: " ".join(a)[:60] or "(nothing)")
+def test_nonsense_exits_2_with_one_line(userdir, argv):
+    root, files = userdir
+    o = call(argv)
+    assert o.status == 2, (o.status, o.err)
+    assert not o.problems, o.problems
+    assert lost_files(root, files) == []
+
+
+def test_outputs_follow_the_file_rule(userdir):
+    """The same output twice: the second needs --force, and --force replaces it; the path
+    printed is the path written; a user's file under the name is never replaced."""
+    root, files = userdir
+    runs = [
+        (["collide", "--model", "KK", "--alpha", "0.3", "--plot", "c.png"], ["c.png"]),
+        (["sweep", "--ball", "OLB", "--model", "KK", "--num", "3", "--plot", "s.png",
+          "--csv", "s.csv", "--json", "s.json"], ["s.png", "s.csv", "s.json"]),
+        (["audit", "--all", "--grid", "0.5", "--no-plots", "--out", "a"], ["a/formulas.csv"]),
+        (["fit", "--example", "--mass", "0.1547", "--drop-height", "0.15", "--laws", "KK",
+          "--quiet", "--out", "f"], ["f/fit.json", "f/fit_example_drop.png"]),
+    ]
+    for argv, made in runs:
+        first = call(argv)
+        assert first.status == 0 and not first.problems, first.err
+        for name in made:
+            assert (root / name).is_file(), name
+        again = call(argv)
+        assert again.status == 2 and "--force" in again.err, again.err
+        forced = call(argv + ["--force"])
+        assert forced.status == 0, forced.err
+    out = call(["sweep", "--ball", "OLB", "--model", "KK", "--num", "3", "--plot", "s.png",
+                "--force"])
+    assert out.err.strip() == "plot written to s.png"
+    assert call(["collide", "--model", "KK", "--alpha", "0.3", "--plot", "s.png",
+                 "--force"]).status == 2  # sweep's plot is not collide's to replace
+    (root / "a" / "formulas.csv").write_text("edited by the user\n")
+    edited = call(["audit", "--all", "--grid", "0.5", "--no-plots", "--out", "a", "--force"])
+    assert edited.status == 2 and "changed since" in edited.err
+    assert (root / "a" / "formulas.csv").read_text() == "edited by the user\n"
+    assert lost_files(root, files) == []
+
+
+def test_markers_are_recognised(tmp_path):
+    from viscontact import outputs
+
+    png = tmp_path / "x.png"
+    outputs.write_png(str(png), "collide", False, "--plot",
+                      lambda p: p.write_bytes(_tiny_png()))
+    assert outputs.written_by(png) == "collide"
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    import zlib
+    # every chunk's CRC is valid: the stamped file is still a well-formed PNG
+    data, i = png.read_bytes(), 8
+    while i < len(data):
+        n = int.from_bytes(data[i:i + 4], "big")
+        assert zlib.crc32(data[i + 4:i + 8 + n]) == int.from_bytes(data[i + 8 + n:i + 12 + n], "big")
+        i += 12 + n
+    csv_path = tmp_path / "x.csv"
+    outputs.write_text(str(csv_path), "sweep", False, "--csv", "a,b\n")
+    assert csv_path.read_text().startswith("# written by viscontact sweep ")
+    assert outputs.written_by(csv_path) == "sweep"
+    js = tmp_path / "x.json"
+    outputs.write_json(str(js), "sweep", False, "--json", {"a": 1})
+    assert json.loads(js.read_text())["a"] == 1 and outputs.written_by(js) == "sweep"
+    (tmp_path / "user.csv").write_text("# written by someone else\n")
+    assert outputs.written_by(tmp_path / "user.csv") is None
+
+
+def _tiny_png() -> bytes:
+    import zlib
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return (len(data).to_bytes(4, "big") + kind + data
+                + zlib.crc32(kind + data).to_bytes(4, "big"))
+
+    ihdr = (1).to_bytes(4, "big") * 2 + bytes([8, 0, 0, 0, 0])
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr)
+            + chunk(b"IDAT", zlib.compress(b"\x00\x00")) + chunk(b"IEND", b""))
+
+
+# ------------------------------------------------------------------ real processes
+
+def test_closed_pipe_is_quiet():
+    env = dict(os.environ, PYTHONPATH=SRC + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    proc = subprocess.run(
+        f"'{sys.executable}' -m viscontact collide --model Jian --alpha 0.3 --beta 0.5 --json "
+        "--histories | head -1; echo \"status ${PIPESTATUS[0]}\" >&2",
+        shell=True, executable="/bin/bash", env=env, capture_output=True, text=True, timeout=120)
+    assert proc.stdout == "{\n"
+    assert proc.stderr == "status 141\n"  # nothing but the status of the viscontact process
+
+
+@pytest.mark.parametrize("args", [
+    ["collide", "--model", "KK", "--alpha", "0.3", "--plot", "D"],
+    ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "0.7", "--value", "nan"],
+    ["sweep", "--ball", "OLB", "--speeds", "1", "--num", "5"],
+    ["calibrate", "--model", "KK", "--e", "0.5", "--e", "0.6"],
+])
+def test_one_line_from_a_real_process(tmp_path, args):
+    make_user_files(tmp_path)
+    proc = run_cli(*args, cwd=tmp_path, timeout=120)
+    assert proc.returncode == 2 and len(proc.stderr.splitlines()) == 1, proc.stderr
+    assert proc.stdout == ""
+    assert lost_files(tmp_path, USER_FILES) == []
+
+
+def test_audit_then_reproduce_share_the_default_directory(tmp_path, monkeypatch):
+    """``audit --all`` writes into viscontact-report/audit by default: a report can still go
+    into viscontact-report afterwards (it holds only viscontact output), a user file cannot."""
+    from viscontact.outputs import OutputDir
+
+    monkeypatch.chdir(tmp_path)
+    assert call(["audit", "--all", "--grid", "0.5", "--no-plots"]).status == 0
+    with OutputDir("viscontact-report", "reproduce", False) as out:
+        (out.staging / "index.html").write_text("report\n")
+    assert (tmp_path / "viscontact-report" / "audit" / "formulas.csv").is_file()
+    (tmp_path / "viscontact-report" / "audit" / "mine.txt").write_text("mine\n")
+    assert call(["audit", "--all", "--grid", "0.5", "--no-plots", "--force"]).status == 0
+    assert (tmp_path / "viscontact-report" / "audit" / "mine.txt").read_text() == "mine\n"
