@@ -190,12 +190,12 @@ def time_scale(m_eff: float, k_hertz: float, v: float) -> float:
     return (m / k) ** 0.4 / vi ** 0.2
 
 
-def _mass(m_eff: float) -> float:
+def _mass(m_eff: float, label: str = "m_eff") -> float:
     """m* in the domain of masses, or at most a factor 2 below it (the m* of two masses)."""
-    m = domain.check_number("m_eff", m_eff)
+    m = domain.check_number(label, m_eff)
     if 0.5 * domain.DOMAIN["mass"].lo <= m < domain.DOMAIN["mass"].lo:
         return m
-    return domain.check("mass", m, label="m_eff")
+    return domain.check("mass", m_eff, label=label)
 
 
 def _prefactor(p: float, m: float, k: float, v: float) -> float:

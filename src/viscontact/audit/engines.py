@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 # scipy is imported in the functions that use it: the command line loads this module for
 # its --help, which should not pay for scipy.
+from .. import domain
 from ..collision import check_end
 from .formulas import (
     antypov_elliott_alpha, antypov_elliott_inverse, delivered_e, exact_alpha,
@@ -36,14 +37,13 @@ __all__ = ["Physical", "Preset", "PRESETS", "ENGINES", "EngineAudit", "audit_eng
 
 
 # ----------------------------------------------------------------- physical quantities
+#: the domain (:mod:`viscontact.domain`) of each physical quantity
+_KIND = {"m_eff": "mass", "r_eff": "radius", "k_hertz": "k_hertz", "v": "v", "e_eff": "modulus"}
+
+
 def _positive(name: str, value: float) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number > 0, got {value!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    return v
+    """A physical quantity inside its domain (:mod:`viscontact.domain`)."""
+    return domain.check(_KIND[name], value, label=name)
 
 
 @dataclass(frozen=True)
@@ -134,10 +134,7 @@ class Preset:
 
 
 def _positive_or_zero(name: str, value: float) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number >= 0, got {value!r}") from None
+    v = domain.check_number(name, value)
     if not (math.isfinite(v) and v >= 0):
         raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
     return v
@@ -372,6 +369,14 @@ def audit_engine(
     """
     pre = get_preset(engine, option)
     e = _check_e(e)
+    if clamp is not None:
+        clamp = domain.check_bool("clamp", clamp)
+    if physical is not None and not isinstance(physical, Physical):
+        raise ValueError(f"physical must be a Physical (Physical.build(...)), got {physical!r}")
+    if value is not None:
+        value = domain.check_number(pre.input_name, value)
+        if not math.isfinite(value):
+            raise ValueError(f"{pre.input_name} must be a finite number, got {value!r}")
     end = pre.end(clamp)
     check_end(end)
     c = pre.end_clamped == end

@@ -29,6 +29,7 @@ import numpy as np
 
 # scipy is imported in the functions that use it: the command line loads this module for
 # its --help, which should not pay for scipy.
+from .. import domain
 from ..calibration import alpha_from_e, restitution
 from ..collision import check_end
 from ..laws import lookup
@@ -43,13 +44,8 @@ SQRT5 = math.sqrt(5.0)
 
 
 def _check_e(e: float) -> float:
-    try:
-        v = float(e)
-    except (TypeError, ValueError):
-        raise ValueError(f"e must be a number in (0, 1]; got {e!r}") from None
-    if not (0.0 < v <= 1.0):
-        raise ValueError(f"e must be a number in (0, 1]; got {e!r}")
-    return v
+    """A target restitution inside its domain (:mod:`viscontact.domain`)."""
+    return domain.check("e", e)
 
 
 # ----------------------------------------------------------------------------- Hunt-Crossley
@@ -390,9 +386,11 @@ def _delivered_cached(model: str, p: float | None, alpha: float, end: str) -> fl
 
 
 def delivered_e(model: str, alpha: float, end: str = "force", *, p: float | None = None) -> float:
-    """The restitution that ``alpha`` really gives (exact solve); NaN for a NaN alpha."""
+    """The restitution that ``alpha`` really gives (exact solve); NaN for a NaN alpha or one
+    outside the domain of alpha ([0, 1000]: a formula may prescribe more)."""
     check_end(end)
-    if not math.isfinite(alpha):
+    alpha = domain.check_number("alpha", alpha)
+    if not domain.DOMAIN["alpha"].contains(alpha):
         return math.nan
     return _delivered_cached(lookup(model).name, None if p is None else float(p), float(alpha), end)
 
