@@ -57,7 +57,8 @@ def restitution(
     Broadcasts ``alpha`` against ``beta``; returns a float for scalar input, else an
     array of the broadcast shape.  Accuracy |e - exact| <= 1e-8 (SPEC sections 2-5);
     solved by the compiled batch solver (:func:`viscontact.solvers.solve_batch`).
-    A zero-overlap contact that never separates gives e = 0.  e lies in [0, 1].
+    A zero-overlap contact that never separates gives e = 0.  e lies in [0, 1]; alpha = 0
+    gives exactly 1.
 
     Inside alpha, beta in [0, 10] every law but ``power`` answers from a precomputed table
     (:mod:`viscontact.tables`, |e - exact| <= 1e-10); ``exact=True`` always solves.
@@ -71,6 +72,8 @@ def restitution(
     lp, a, b = _law_grid(model, domain.check_array("alpha", alpha), beta, p)
     out = _e_of(lp, a, b, end) if exact else tables.through_tables("e", lp, a, b, end, _e_of)
     out = _valid_e(out)
+    if out.size and not a.all():  # undamped: e = 1 exactly (energy is conserved)
+        out = np.where(a == 0.0, 1.0, out)
     return float(out) if out.ndim == 0 else out
 
 

@@ -130,7 +130,7 @@ def collide(
 
     Raises ValueError for an unknown model, alpha, beta, p or rtol outside their domain
     (:mod:`viscontact.domain`: alpha in [0, 1000], beta in [0, 1000], p in [0, 10], rtol in
-    [1e-13, 1e-3]), beta given to a law without one, or p missing for ``power``.
+    [1e-13, 1e-5]), beta given to a law without one, or p missing for ``power``.
     """
     lp = resolve(model, beta=beta, p=p)
     a = domain.check("alpha", alpha)

@@ -76,7 +76,7 @@ _RANGES = (
     Range("beta", 0.0, BETA_MAX, "1", "Jian's relaxation time / T"),
     Range("p", 0.0, P_MAX, "1", "damping exponent of the power law"),
     Range("e", E_MIN, 1.0, "1", "target coefficient of restitution"),
-    Range("rtol", 1e-13, 1e-3, "1", "relative tolerance of the integrator", lo_open=False),
+    Range("rtol", 1e-13, 1e-5, "1", "relative tolerance of the integrator"),
     Range("mass", 1e-24, 1e12, "kg", "mass (m*, m1, m2)"),
     Range("radius", 1e-9, 1e4, "m", "radius (R*, R1, R2)"),
     Range("modulus", 1.0, 1e13, "Pa", "Young's modulus (E*, E1, E2)"),

@@ -168,7 +168,8 @@ def calibrate_ball(
     b = ball(b) if isinstance(b, str) else b
     if not isinstance(b, Ball):
         raise ValueError(f"ball must be a Ball or a ball's name, got {b!r}")
-    if isinstance(models, str) or not all(isinstance(m, str) for m in models):
+    if (isinstance(models, str) or not isinstance(models, (tuple, list))
+            or not all(isinstance(m, str) for m in models)):
         raise ValueError(f"models must be a sequence of model names, got {models!r}")
     out = {}
     for m in models:

@@ -285,10 +285,8 @@ def first_order_formula(model: str, p: float | None = None) -> Formula:
         raise ValueError("the first-order estimate is for laws with g = 1; Jian has a relaxation factor")
     if law.p is None:
         if p is None:
-            raise ValueError("model power needs the exponent p (a finite number >= 0)")
-        pp = float(p)
-        if not (math.isfinite(pp) and pp >= 0):
-            raise ValueError(f"p must be a finite number >= 0, got {p!r}")
+            raise ValueError(f"model power needs the exponent p (in {domain.range_text('p')})")
+        pp = domain.check("p", p)
     else:
         if p is not None:
             raise ValueError(f"model {law.name} has a fixed exponent p = {law.p}; p is only for 'power'")
@@ -430,6 +428,8 @@ class FormulaAudit:
 def audit_formula(formula: Formula | str, e: float, end: str = "force") -> FormulaAudit:
     """Audit one formula at one target ``e`` under one end criterion."""
     f = get_formula(formula) if isinstance(formula, str) else formula
+    if not isinstance(f, Formula):
+        raise ValueError(f"formula must be a formula name or a Formula, got {formula!r}")
     check_end(end)
     e = _check_e(e)
     a = f.alpha(e)
