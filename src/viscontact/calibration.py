@@ -26,9 +26,10 @@ def _law_grid(model: str, x: np.ndarray, beta: ArrayLike | None, p: float | None
     base = resolve(model, beta=None if beta is None else 0.0, p=p)
     if beta is None:
         return base, x, None
+    b = domain.check_array("beta", beta)
     try:
         # owned copies: broadcast views warn (numpy 2) where numba receives them
-        a, b = (np.array(v) for v in np.broadcast_arrays(x, domain.check_array("beta", beta)))
+        a, b = (np.array(v) for v in np.broadcast_arrays(x, b))
     except ValueError:
         raise ValueError(f"beta of shape {np.shape(beta)} does not broadcast against shape "
                          f"{np.shape(x)}") from None

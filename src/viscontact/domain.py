@@ -146,8 +146,8 @@ def check_array(name: str, value: Any, *, label: str | None = None):
         if raw.dtype.kind == "O":  # e.g. a list of Python ints too large for int64
             flat = [check(name, v, label=label) for v in raw.ravel()]
             return np.array(flat, dtype=float).reshape(raw.shape)
-        raise ValueError(f"{label} must hold real numbers, got an array of {raw.dtype} "
-                         f"({_describe(value)})")
+        raise ValueError(f"{label} must be a number or an array of real numbers, got an array "
+                         f"of {raw.dtype} ({_describe(value)})")
     a = raw.astype(float, copy=False)  # read only below: no copy of a float array
     if a.size == 0:
         return a
