@@ -229,3 +229,11 @@ def test_domain_texts_for_help():
     assert domain.range_text("v") == "[1e-06, 10000] m/s"
     assert domain.range_text("poisson") == "(-1, 0.5]"
     assert "alpha" in domain.domain_table()
+
+
+def test_readme_states_the_domain_table():
+    """The README's section "Domain" is the table the code checks (one place)."""
+    from pathlib import Path
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
+    assert domain.domain_table() in readme
