@@ -30,7 +30,7 @@ from .. import domain
 from ..collision import check_end
 from .formulas import (
     antypov_elliott_alpha, antypov_elliott_inverse, delivered_e, exact_alpha,
-    tsuji_polynomial, _check_e,
+    tsuji_polynomial, _check_target_e,
 )
 
 __all__ = ["Physical", "Preset", "PRESETS", "ENGINES", "EngineAudit", "audit_engine", "get_preset"]
@@ -42,7 +42,11 @@ _KIND = {"m_eff": "mass", "r_eff": "radius", "k_hertz": "k_hertz", "v": "v", "e_
 
 
 def _positive(name: str, value: float) -> float:
-    """A physical quantity inside its domain (:mod:`viscontact.domain`)."""
+    """A physical quantity (> 0) inside its domain (:mod:`viscontact.domain`)."""
+    v = domain.check_number(name, value)
+    if not v > 0:
+        raise ValueError(f"{name} must be a finite number > 0, in {domain.range_text(_KIND[name])};"
+                         f" got {value!r}")
     return domain.check(_KIND[name], value, label=name)
 
 
@@ -368,7 +372,7 @@ def audit_engine(
     ``physical``.
     """
     pre = get_preset(engine, option)
-    e = _check_e(e)
+    e = _check_target_e(e)
     if clamp is not None:
         clamp = domain.check_bool("clamp", clamp)
     if physical is not None and not isinstance(physical, Physical):

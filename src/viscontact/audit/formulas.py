@@ -44,7 +44,18 @@ SQRT5 = math.sqrt(5.0)
 
 
 def _check_e(e: float) -> float:
-    """A target restitution inside its domain (:mod:`viscontact.domain`)."""
+    """A restitution coefficient in (0, 1], for the closed forms (they answer for any)."""
+    try:
+        v = domain.check_number("e", e)
+    except ValueError:
+        v = math.nan
+    if not (0.0 < v <= 1.0):
+        raise ValueError(f"e must be a number in (0, 1]; got {e!r}")
+    return v
+
+
+def _check_target_e(e: float) -> float:
+    """A target restitution for an exact solve: inside its domain (:mod:`viscontact.domain`)."""
     return domain.check("e", e)
 
 
@@ -375,7 +386,8 @@ def _exact_alpha_cached(model: str, p: float | None, e: float, end: str) -> floa
 def exact_alpha(model: str, e: float, end: str = "force", *, p: float | None = None) -> float:
     """The alpha that gives exactly ``e`` for ``model`` under ``end`` (NaN if unreachable)."""
     check_end(end)
-    return _exact_alpha_cached(lookup(model).name, None if p is None else float(p), _check_e(e), end)
+    return _exact_alpha_cached(lookup(model).name, None if p is None else float(p),
+                               _check_target_e(e), end)
 
 
 @lru_cache(maxsize=8192)
@@ -431,7 +443,7 @@ def audit_formula(formula: Formula | str, e: float, end: str = "force") -> Formu
     if not isinstance(f, Formula):
         raise ValueError(f"formula must be a formula name or a Formula, got {formula!r}")
     check_end(end)
-    e = _check_e(e)
+    e = _check_target_e(e)
     a = f.alpha(e)
     d = delivered_e(f.model, a, end, p=f.p)
     return FormulaAudit(
