@@ -378,9 +378,10 @@ def audit_engine(
     if physical is not None and not isinstance(physical, Physical):
         raise ValueError(f"physical must be a Physical (Physical.build(...)), got {physical!r}")
     if value is not None:
-        value = domain.check_number(pre.input_name, value)
+        label = f"value (the {pre.input_name} typed into {pre.engine} {pre.option})"
+        value = domain.check_number(label, value)
         if not math.isfinite(value):
-            raise ValueError(f"{pre.input_name} must be a finite number, got {value!r}")
+            raise ValueError(f"{label} must be a finite number, got {value!r}")
     end = pre.end(clamp)
     check_end(end)
     c = pre.end_clamped == end
