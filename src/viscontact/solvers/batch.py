@@ -448,7 +448,8 @@ def solve_batch(
         if over.size:
             raise ValueError(
                 f"alpha = {a[over[0]]:g} (beta = {b[over[0]]:g}) damps so strongly that the "
-                f"solver gave up after {_MAX_STEPS} steps; alpha up to about 1e4 is supported")
+                f"solver gave up after {_MAX_STEPS} steps; alpha in [0, 1000] is supported "
+                "(viscontact.domain)")
     return BatchResult(*(x.reshape(shape) for x in (e, tc, res, w, sep)))
 
 
