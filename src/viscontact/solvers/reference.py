@@ -30,11 +30,11 @@ _PACKAGE = __package__.rpartition(".")[0]  # viscontact
 PLAIN_SOLVES = 8
 _solve_count = itertools.count()
 #: alpha t^ up to which this solver integrates (an explicit method takes ~alpha t^ / 3 steps on
-#: a contact damped at rate ~alpha): about 1e4 steps, well under a second.  A contact still
+#: a contact damped at rate ~alpha): a few thousand steps, well under a second.  A contact still
 #: going at t^ = min(T_MAX, REF_WORK / alpha) (heavily damped, zero-overlap end, creeping
 #: back) is finished by the compiled batch solver at the same tolerance: its scalars come
 #: from there, its histories cover [0, that time].
-REF_WORK = 3.0e4
+REF_WORK = 1.0e4
 
 
 def _event(fn, terminal: bool, direction: float):
