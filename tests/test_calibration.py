@@ -53,7 +53,7 @@ def test_alpha_from_e_broadcasts_against_beta():
 
 @pytest.mark.parametrize("bad", [0.0, -0.1, 1.5, float("nan"), float("inf"), "x"])
 def test_alpha_from_e_rejects_e_outside_range(bad):
-    with pytest.raises(ValueError, match=r"e must be a number in \(0, 1\]"):
+    with pytest.raises(ValueError, match=r"e must be (in \[1e-06, 1\]|a number)"):
         vc.alpha_from_e("KK", bad)
 
 
@@ -63,7 +63,7 @@ def test_alpha_from_e_unreachable_names_the_range():
 
 
 def test_restitution_rejects_bad_alpha():
-    with pytest.raises(ValueError, match="alpha must be a finite number >= 0"):
+    with pytest.raises(ValueError, match=r"alpha must be in \[0, 1000\]"):
         vc.restitution("KK", [0.1, -1.0])
-    with pytest.raises(ValueError, match="beta must be a finite number >= 0"):
+    with pytest.raises(ValueError, match=r"beta must be in \[0, 1000\]"):
         vc.restitution("Jian", 0.1, beta=[0.1, float("nan")])

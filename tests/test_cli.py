@@ -81,8 +81,8 @@ def test_calibrate_json(capsys):
         (["collide", "--model", "KK"], "required: --alpha"),
         (["restitution", "--model", "Jian", "--alpha", "0.1", "0.2", "0.3", "--beta", "1", "2"],
          "one --beta or one per --alpha"),
-        (["calibrate", "--model", "KK", "--e", "1.5"], "e must be a number in (0, 1]"),
-        (["calibrate", "--model", "Hunt", "--e", "1e-7"], "allowed range"),
+        (["calibrate", "--model", "KK", "--e", "1.5"], "e must be in [1e-06, 1]"),
+        (["calibrate", "--model", "Hunt", "--e", "1e-4"], "allowed range"),
         (["frobnicate"], "invalid choice"),
     ],
 )

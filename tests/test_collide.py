@@ -153,8 +153,8 @@ def test_kernel_force_matches_law_definition():
 @pytest.mark.parametrize(
     "kwargs, fragment",
     [
-        ({"alpha": -0.1}, "alpha must be a finite number >= 0"),
-        ({"alpha": float("nan")}, "alpha must be a finite number >= 0"),
+        ({"alpha": -0.1}, r"alpha must be in \[0, 1000\]"),
+        ({"alpha": float("nan")}, r"alpha must be in \[0, 1000\]"),
         ({"alpha": "abc"}, "alpha must be a number"),
         ({"alpha": 0.3, "end": "contact"}, "end must be one of force, overlap"),
     ],

@@ -5,43 +5,42 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from . import domain
 from .collision import check_end
-from .laws import LawParams, check_finite_nonneg, resolve
+from .domain import ALPHA_MAX
+from .laws import LawParams, resolve
 
 # The tables and the batch solver (numba) are imported where they are used, so that importing
 # this module (the command line does) does not load the compiler.
 
 __all__ = ["restitution", "alpha_from_e", "ALPHA_MAX"]
 
-#: alpha_from_e searches alpha in [0, ALPHA_MAX]; a smaller e is reported unreachable.
-ALPHA_MAX = 1000.0
+# alpha_from_e searches alpha in [0, ALPHA_MAX] (the domain of alpha, :mod:`.domain`); a
+# smaller e is reported unreachable.
 _E_TOL = 1e-12  # |e(alpha) - target| at which the inversion stops (the contract is 1e-9)
 _MAX_ITER = 200
 
 
-def _as_checked_array(name: str, value: ArrayLike) -> np.ndarray:
-    """``value`` as a float array, or ValueError naming the first bad element (vectorised)."""
-    raw = np.asarray(value)
-    if raw.dtype.kind not in "biuf":  # strings, objects, complex: check one by one
-        arr = np.asarray(value, dtype=object)
-        flat = [check_finite_nonneg(name, v) for v in arr.ravel()]
-        return np.array(flat, dtype=float).reshape(arr.shape)
-    a = raw.astype(float, copy=False)  # read only below: no copy of a float array
-    if a.size and not (a.min() >= 0.0 and a.max() < np.inf):  # NaN fails too; no temporaries
-        bad = ~(np.isfinite(a) & (a >= 0))
-        first = np.asarray(value, dtype=object).ravel()[int(np.argmax(bad.ravel()))]
-        check_finite_nonneg(name, first)  # raises with the usual message
-    return a
-
-
-def _law_grid(model: str, alpha: ArrayLike, beta: ArrayLike | None, p: float | None):
-    """Validated law, alpha array and beta array (or None) broadcast together."""
+def _law_grid(model: str, x: np.ndarray, beta: ArrayLike | None, p: float | None):
+    """Validated law, the (validated) array ``x`` and beta array (or None) broadcast together."""
     base = resolve(model, beta=None if beta is None else 0.0, p=p)
-    a = _as_checked_array("alpha", alpha)
     if beta is None:
-        return base, a, None
-    a, b = np.broadcast_arrays(a, _as_checked_array("beta", beta))
+        return base, x, None
+    b = domain.check_array("beta", beta)
+    try:
+        # owned copies: broadcast views warn (numpy 2) where numba receives them
+        a, b = (np.array(v) for v in np.broadcast_arrays(x, b))
+    except ValueError:
+        raise ValueError(f"beta of shape {np.shape(beta)} does not broadcast against shape "
+                         f"{np.shape(x)}") from None
     return base, a, b
+
+
+def _valid_e(e: np.ndarray) -> np.ndarray:
+    """Restitution as solved, within [0, 1] (e <= 1 exactly by the energy balance; rounding
+    or the tables' interpolation may leave it a few ulps above)."""
+    return np.clip(e, 0.0, 1.0, out=e) if isinstance(e, np.ndarray) and e.flags.writeable \
+        else np.clip(e, 0.0, 1.0)
 
 
 def _e_of(lp: LawParams, alpha: np.ndarray, beta: np.ndarray | None, end: str) -> np.ndarray:
@@ -59,16 +58,23 @@ def restitution(
     Broadcasts ``alpha`` against ``beta``; returns a float for scalar input, else an
     array of the broadcast shape.  Accuracy |e - exact| <= 1e-8 (SPEC sections 2-5);
     solved by the compiled batch solver (:func:`viscontact.solvers.solve_batch`).
-    A zero-overlap contact that never separates gives e = 0.
+    A zero-overlap contact that never separates gives e = 0.  e lies in [0, 1]; alpha = 0
+    gives exactly 1.
 
     Inside alpha, beta in [0, 10] every law but ``power`` answers from a precomputed table
     (:mod:`viscontact.tables`, |e - exact| <= 1e-10); ``exact=True`` always solves.
+    alpha, beta and p must lie in their domain (:mod:`viscontact.domain`: [0, 1000],
+    [0, 1000], [0, 10]), else ValueError.
     """
     from . import tables
 
     check_end(end)
-    lp, a, b = _law_grid(model, alpha, beta, p)
+    exact = domain.check_bool("exact", exact)
+    lp, a, b = _law_grid(model, domain.check_array("alpha", alpha), beta, p)
     out = _e_of(lp, a, b, end) if exact else tables.through_tables("e", lp, a, b, end, _e_of)
+    out = _valid_e(out)
+    if out.size and not a.all():  # undamped: e = 1 exactly (energy is conserved)
+        out = np.where(a == 0.0, 1.0, out)
     return float(out) if out.ndim == 0 else out
 
 
@@ -101,13 +107,14 @@ def _invert(lp: LawParams, target: np.ndarray, beta: np.ndarray | None, end: str
         f_hi[grow] = _e_of(lp, hi[grow], None if bet is None else bet[grow], end) - tgt[grow]
     side = np.zeros(todo.size, dtype=int)
     best = hi.copy()
+    f_best = f_hi.copy()
     live = np.arange(todo.size)
     for _ in range(_MAX_ITER):
         x = lo[live] - f_lo[live] * (hi[live] - lo[live]) / (f_hi[live] - f_lo[live])
         bad = ~((x > lo[live]) & (x < hi[live]))
         x[bad] = 0.5 * (lo[live][bad] + hi[live][bad])
         f = _e_of(lp, x, None if bet is None else bet[live], end) - tgt[live]
-        best[live] = x
+        best[live], f_best[live] = x, f
         up = f > 0  # e too high: alpha above x
         i_up, i_dn = live[up], live[~up]
         lo[i_up], f_lo[i_up] = x[up], f[up]
@@ -120,6 +127,15 @@ def _invert(lp: LawParams, target: np.ndarray, beta: np.ndarray | None, end: str
         live = live[~done]
         if live.size == 0:
             break
+    # e(alpha) jumps where a zero-overlap contact stops separating before T_MAX: a bracket
+    # that closed on that jump has no root; say so rather than return its end
+    miss = np.flatnonzero(np.abs(f_best) > 1e-9 * (1.0 + tgt))
+    if miss.size:
+        i = miss[0]
+        raise ValueError(
+            f"e = {float(tgt[i])!r} is not reached by {lp.name} under the zero-{end} criterion "
+            f"(e(alpha) jumps to 0 near alpha = {float(best[i]):.6g}, "
+            f"where the contact stops separating before t = T_MAX); give a larger e")
     alpha[todo] = best
     return alpha
 
@@ -131,28 +147,16 @@ def alpha_from_e(
     """The damping constant alpha >= 0 that gives restitution ``e`` (inverse of :func:`restitution`).
 
     Broadcasts ``e`` against ``beta``.  |restitution(alpha_from_e(e)) - e| <= 1e-9; e = 1
-    gives 0.  Raises ValueError for e outside (0, 1], NaN, or an e the law cannot reach.
+    gives 0.  Raises ValueError for e outside [1e-6, 1] (:data:`viscontact.domain.E_MIN`:
+    below it the zero-overlap end gives up at T_MAX before the contact separates), NaN, an e
+    the law cannot reach with alpha <= 1000, or beta, p outside their domain.
     Every element is solved at once: batch solves of the whole array per iteration.
     Where the law's table (:mod:`viscontact.tables`) reaches, it answers instead (Newton on
     the interpolant); ``exact=True`` always solves.
     """
     check_end(end)
-    raw = np.asarray(e)
-    if raw.dtype.kind in "biuf":
-        e_arr = raw.astype(float, copy=False)  # read only below
-        if e_arr.size and not (e_arr.min() > 0.0 and e_arr.max() <= 1.0):  # NaN fails too
-            ok = (e_arr > 0.0) & (e_arr <= 1.0)
-            bad = np.asarray(e, dtype=object).ravel()[int(np.argmin(ok.ravel()))]
-            raise ValueError(f"e must be a number in (0, 1]; got {bad!r}")
-    else:
-        for v in np.asarray(e, dtype=object).ravel():
-            try:
-                good = 0.0 < float(v) <= 1.0
-            except (TypeError, ValueError):
-                good = False
-            if not good:
-                raise ValueError(f"e must be a number in (0, 1]; got {v!r}")
-        e_arr = np.asarray(e, dtype=object).astype(float)
+    exact = domain.check_bool("exact", exact)
+    e_arr = domain.check_array("e", e)
     lp, e_f, b = _law_grid(model, e_arr, beta, p)
     if exact:
         out = _invert(lp, np.ascontiguousarray(e_f).ravel(), None if b is None else

@@ -12,7 +12,8 @@ from typing import Any
 
 import numpy as np
 
-from .laws import LawParams, check_finite_nonneg, resolve
+from . import domain
+from .laws import LawParams, resolve
 from .solvers import END_CRITERIA, SOLVERS
 
 __all__ = ["CollisionResult", "collide", "check_end", "result_dict", "solver_for"]
@@ -30,8 +31,10 @@ class CollisionResult:
     Attributes (non-dimensional):
         e: restitution coefficient -x'(t_c) (0 when the contact does not separate).
         tc: contact time t_c / T (inf when the contact does not separate).
-        fmax, t_fmax: peak force F^ = F T / (m* v_i) and when it occurs.
-        xmax, t_xmax: maximum overlap x = delta / (T v_i) and when it occurs.
+        fmax, t_fmax: peak force F^ = F T / (m* v_i) and when it occurs (None with
+            ``history=False``: not computed).
+        xmax, t_xmax: maximum overlap x = delta / (T v_i) and when it occurs (None with
+            ``history=False``).
         residual: overlap x(t_c) left at the end (zero-force end; 0 for zero overlap).
         dissipated: work of the damping force, in m* v_i^2.
         separated: False when the contact was still closing at t = T_MAX (zero-overlap end).
@@ -45,10 +48,10 @@ class CollisionResult:
     end: str
     e: float
     tc: float
-    fmax: float
-    t_fmax: float
-    xmax: float
-    t_xmax: float
+    fmax: float | None
+    t_fmax: float | None
+    xmax: float | None
+    t_xmax: float | None
     residual: float
     dissipated: float
     separated: bool
@@ -89,9 +92,7 @@ def result_dict(result: Any, history_keys: tuple[str, ...], histories: bool) -> 
 
 def check_end(end: str) -> str:
     """Validate the end-of-contact criterion."""
-    if end not in END_CRITERIA:
-        raise ValueError(f"end must be one of {', '.join(END_CRITERIA)}; got {end!r}")
-    return end
+    return domain.check_choice("end", end, END_CRITERIA)
 
 
 def collide_params(
@@ -103,10 +104,10 @@ def collide_params(
     tol = {} if rtol is None else {"rtol": rtol}
     raw = solve(lp, alpha, end, detail=history, **tol)
     hist = raw.history
-    scalars = {
-        k: float(getattr(raw, k))
-        for k in ("e", "tc", "fmax", "t_fmax", "xmax", "t_xmax", "residual", "dissipated")
-    }
+    scalars = {k: float(getattr(raw, k)) for k in ("e", "tc", "residual", "dissipated")}
+    # peaks: computed with histories only (None, not NaN, when they were not)
+    scalars |= {k: float(getattr(raw, k)) if history else None
+                for k in ("fmax", "t_fmax", "xmax", "t_xmax")}
     return CollisionResult(
         model=lp.name, alpha=alpha, beta=lp.beta if lp.law.needs_beta else None, p=lp.p, end=end,
         separated=bool(raw.separated), **scalars,
@@ -127,12 +128,13 @@ def collide(
     integrator's relative tolerance; by default 1e-12 with histories (e to about 1e-11) and
     the batch solver's ``BATCH_RTOL`` without (e to about 1e-9).
 
-    Raises ValueError for an unknown model, a negative or non-finite alpha, beta or p,
-    beta given to a law without one, or p missing for ``power``.
+    Raises ValueError for an unknown model, alpha, beta, p or rtol outside their domain
+    (:mod:`viscontact.domain`: alpha in [0, 1000], beta in [0, 1000], p in [0, 10], rtol in
+    [1e-13, 1e-5]), beta given to a law without one, or p missing for ``power``.
     """
     lp = resolve(model, beta=beta, p=p)
-    a = check_finite_nonneg("alpha", alpha)
+    a = domain.check("alpha", alpha)
     check_end(end)
-    if rtol is not None and not (0 < rtol < 1e-3):
-        raise ValueError(f"rtol must be in (0, 1e-3); got {rtol!r}")
-    return collide_params(lp, a, end, rtol=rtol, history=history)
+    if rtol is not None:
+        rtol = domain.check("rtol", rtol)
+    return collide_params(lp, a, end, rtol=rtol, history=domain.check_bool("history", history))

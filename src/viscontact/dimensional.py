@@ -26,8 +26,9 @@ from typing import Any
 
 import numpy as np
 
+from . import domain
 from .collision import CollisionResult, check_end, collide, result_dict
-from .laws import check_finite_nonneg, lookup, resolve
+from .laws import lookup, resolve
 
 __all__ = [
     "effective_mass", "effective_radius", "effective_modulus", "hertz_stiffness",
@@ -41,11 +42,9 @@ STANDARD_GRAVITY = 9.81
 
 
 def check_positive(name: str, value: float) -> float:
-    """``value`` as float, or ValueError if it is not a finite number > 0."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    """``value`` as float, or ValueError if it is not a finite real number > 0 (no range:
+    parameters with a stated domain go through :func:`viscontact.domain.check`)."""
+    v = domain.check_number(name, value)
     if not math.isfinite(v) or v <= 0:
         raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
     return v
@@ -53,48 +52,53 @@ def check_positive(name: str, value: float) -> float:
 
 def check_poisson(name: str, nu: float) -> float:
     """``nu`` as float, or ValueError if it is not a Poisson ratio in (-1, 0.5]."""
-    try:
-        v = float(nu)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {nu!r}") from None
-    if not (-1.0 < v <= 0.5):
-        raise ValueError(f"{name} must be in (-1, 0.5], got {nu!r}")
-    return v
+    return domain.check("poisson", nu, label=name)
 
 
-def _harmonic_pair(name: str, a: float, b: float | None) -> float:
-    """a b / (a + b), validated; b = None (a wall) gives a."""
-    a = check_positive(name, a)
+def _harmonic_pair(kind: str, label: str, a: float, b: float | None) -> float:
+    """a b / (a + b), each in the domain of ``kind``; b = None (a wall) gives a.  The result
+    lies between min(a, b) / 2 and min(a, b), so it may fall below the domain by a factor 2
+    at most: harmless for every derived number."""
+    a = domain.check(kind, a, label=label)
     if b is None:
         return a
-    b = check_positive(f"second {name}", b)
-    return a * b / (a + b)
+    b = domain.check(kind, b, label=f"second {label}")
+    return a / (1.0 + a / b)  # a b / (a + b) without overflow
 
 
 def effective_mass(m1: float, m2: float | None = None) -> float:
     """m* = m1 m2 / (m1 + m2) [kg]; ``m2=None`` (a fixed wall) gives m1."""
-    return _harmonic_pair("mass", m1, m2)
+    return _harmonic_pair("mass", "mass", m1, m2)
 
 
 def effective_radius(r1: float, r2: float | None = None) -> float:
     """R* = R1 R2 / (R1 + R2) [m]; ``r2=None`` (a flat wall) gives R1."""
-    return _harmonic_pair("radius", r1, r2)
+    return _harmonic_pair("radius", "radius", r1, r2)
 
 
 def effective_modulus(e1: float, nu1: float, e2: float | None = None, nu2: float | None = None) -> float:
-    """E* from 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 [Pa]; ``e2=None``: a rigid wall."""
-    a = check_positive("Young's modulus", e1)
+    """E* from 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 [Pa]; ``e2=None``: a rigid wall.
+
+    With nu in (-1, 0.5], 1 - nu^2 lies in (0, 1], so E* is at least min(E1, E2) / 2 and finite
+    (large for nu near -1; k_Hertz is checked against its own domain)."""
+    a = domain.check("modulus", e1, label="Young's modulus")
     inv = (1.0 - check_poisson("Poisson ratio", nu1) ** 2) / a
     if e2 is not None:
-        b = check_positive("second Young's modulus", e2)
+        b = domain.check("modulus", e2, label="second Young's modulus")
         inv += (1.0 - check_poisson("second Poisson ratio", 0.0 if nu2 is None else nu2) ** 2) / b
+    elif nu2 is not None:
+        raise ValueError("a second Poisson ratio needs the second Young's modulus too")
     return 1.0 / inv
 
 
 def hertz_stiffness(e_eff: float, r_eff: float) -> float:
-    """k_Hertz = (4/3) E* sqrt(R*) [N/m^1.5] (Hertz 1882)."""
-    return 4.0 / 3.0 * check_positive("effective modulus", e_eff) * math.sqrt(
-        check_positive("effective radius", r_eff))
+    """k_Hertz = (4/3) E* sqrt(R*) [N/m^1.5] (Hertz 1882); the result must lie in the domain of
+    k_Hertz (:mod:`viscontact.domain`)."""
+    e = check_positive("effective modulus", e_eff)
+    r = check_positive("effective radius", r_eff)
+    k = 4.0 / 3.0 * e * math.sqrt(r)
+    return domain.check("k_hertz", k, label=f"k_Hertz = (4/3) E* sqrt(R*) from E* = {e:g} Pa, "
+                        f"R* = {r:g} m")
 
 
 @dataclass(frozen=True)
@@ -109,7 +113,7 @@ class ContactPair:
         v: the normal impact speed v_i [m/s] when the pair describes one collision (None
         otherwise; :meth:`at` sets it).  Speed-dependent quantities (:attr:`T`) need it.
 
-    Every given value must be a finite number > 0 (ValueError otherwise).
+    Every given value must lie in its domain (:mod:`viscontact.domain`; ValueError otherwise).
     """
 
     m_eff: float
@@ -118,11 +122,15 @@ class ContactPair:
     e_eff: float | None = None
     v: float | None = None
 
+    #: the domain (:mod:`viscontact.domain`) of each field
+    _DOMAIN = {"m_eff": "mass", "k_hertz": "k_hertz", "r_eff": "radius", "e_eff": "modulus",
+               "v": "v"}
+
     def __post_init__(self) -> None:
-        for name in ("m_eff", "k_hertz", "r_eff", "e_eff", "v"):
+        for name, kind in self._DOMAIN.items():
             value = getattr(self, name)
             if value is not None or name in ("m_eff", "k_hertz"):
-                object.__setattr__(self, name, check_positive(name, value))
+                object.__setattr__(self, name, domain.check(kind, value, label=name))
 
     @classmethod
     def from_effective(
@@ -141,7 +149,7 @@ class ContactPair:
 
     def at(self, v: float) -> "ContactPair":
         """The same pair at normal impact speed ``v`` [m/s] (> 0)."""
-        return replace(self, v=check_positive("impact speed v", v))
+        return replace(self, v=domain.check("v", v, label="impact speed v"))
 
     @property
     def T(self) -> float:
@@ -169,7 +177,8 @@ def contact_pair(
     if k_hertz is not None:
         if modulus is not None or poisson is not None or modulus2 is not None:
             raise ValueError("give either k_Hertz or the elastic constants (E, nu), not both")
-        return ContactPair(m_eff=m_eff, k_hertz=check_positive("k_Hertz", k_hertz), r_eff=r_eff)
+        return ContactPair(m_eff=m_eff, k_hertz=domain.check("k_hertz", k_hertz, label="k_Hertz"),
+                           r_eff=r_eff)
     if modulus is None or poisson is None:
         raise ValueError("give k_Hertz, or Young's modulus E and Poisson ratio nu (with the radius)")
     if modulus2 is not None and poisson2 is None:
@@ -199,25 +208,42 @@ def hertz_limit(m_eff: float, k_hertz: float, v: float) -> tuple[float, float, f
     t_c = 3.2180654597 T, delta_max = (5 m* v^2 / (4 k_Hertz))^(2/5), F_max = k_Hertz delta_max^(3/2).
     """
     T = time_scale(m_eff, k_hertz, v)
-    dmax = (5.0 * m_eff * v * v / (4.0 * k_hertz)) ** 0.4
-    return HERTZ_TC * T, dmax, k_hertz * dmax ** 1.5
+    dmax = HERTZ_XMAX * T * v  # (5 m* v^2 / (4 k_Hertz))^(2/5), without overflow
+    return HERTZ_TC * T, dmax, k_hertz * dmax * math.sqrt(dmax)
 
 
 def drop_speed(height: float, g: float = STANDARD_GRAVITY) -> float:
-    """Impact speed sqrt(2 g h) [m/s] of a drop from rest through ``height`` [m], no drag."""
-    return math.sqrt(2.0 * check_positive("gravity", g) * check_positive("drop height", height))
+    """Impact speed sqrt(2 g h) [m/s] of a drop from rest through ``height`` [m], no drag.
+
+    ``height`` and ``g`` inside their domain (:mod:`viscontact.domain`) give a speed inside the
+    domain of v."""
+    return math.sqrt(2.0 * domain.check("gravity", g) * domain.check("drop_height", height,
+                                                                       label="drop height"))
 
 
 def time_scale(m_eff: float, k_hertz: float, v: float) -> float:
-    """T = (m*^2 / (k_Hertz^2 v_i))^(1/5) [s] (SPEC section 2)."""
-    m = check_positive("m_eff", m_eff)
-    k = check_positive("k_hertz", k_hertz)
-    vi = check_positive("impact speed v", v)
-    return (m * m / (k * k * vi)) ** 0.2
+    """T = (m*^2 / (k_Hertz^2 v_i))^(1/5) [s] (SPEC section 2).
+
+    Computed as (m*/k_Hertz)^(2/5) v^(-1/5): no intermediate overflows or underflows inside
+    the domain (m* in [1e-24, 1e12] kg, k_Hertz in [1e-6, 1e17] N/m^1.5, v in [1e-6, 1e4] m/s
+    give T in [4e-18, 3e8] s)."""
+    m = _mass(m_eff)
+    k = domain.check("k_hertz", k_hertz)
+    vi = domain.check("v", v, label="impact speed v")
+    return (m / k) ** 0.4 / vi ** 0.2
+
+
+def _mass(m_eff: float, label: str = "m_eff") -> float:
+    """m* in the domain of masses, or at most a factor 2 below it (the m* of two masses)."""
+    m = domain.check_number(label, m_eff)
+    if 0.5 * domain.DOMAIN["mass"].lo <= m < domain.DOMAIN["mass"].lo:
+        return m
+    return domain.check("mass", m_eff, label=label)
 
 
 def _prefactor(p: float, m: float, k: float, v: float) -> float:
-    """c / alpha = m*^((3-2p)/5) v^((1-4p)/5) k^((2+2p)/5) (SPEC section 3)."""
+    """c / alpha = m*^((3-2p)/5) v^((1-4p)/5) k^((2+2p)/5) (SPEC section 3); finite and > 0
+    inside the domain (each factor is)."""
     return m ** ((3.0 - 2.0 * p) / 5.0) * v ** ((1.0 - 4.0 * p) / 5.0) * k ** ((2.0 + 2.0 * p) / 5.0)
 
 
@@ -229,9 +255,9 @@ def damping_coefficient(
     For Jian, c multiplies (1 - exp(-t/tau)) delta^(1/2) delta'; tau = beta T (see
     :func:`time_scale`).  LH: c = gamma m* (gamma = alpha/T); Hunt: c = lambda = alpha k_Hertz / v.
     """
-    a = check_finite_nonneg("alpha", alpha)
+    a = domain.check("alpha", alpha)
     time_scale(m_eff, k_hertz, v)  # validates the three
-    return a * _prefactor(_exponent(model, p), m_eff, k_hertz, v)
+    return a * _prefactor(_exponent(model, p), float(m_eff), float(k_hertz), float(v))
 
 
 def _exponent(model: str, p: float | None) -> float:
@@ -252,10 +278,22 @@ def damping_constants(
         raise ValueError(f"model {law.name} needs tau (relaxation time in s, >= 0)")
     if not law.needs_beta and tau is not None:
         raise ValueError(f"model {law.name} takes no tau; only Jian has a relaxation time")
-    c_v = check_finite_nonneg("damping coefficient c", c)
+    c_v = domain.check("c", c, label="damping coefficient c")
     T = time_scale(m_eff, k_hertz, v)
-    alpha = c_v / _prefactor(_exponent(model, p), m_eff, k_hertz, v)
-    beta = check_finite_nonneg("tau", tau) / T if law.needs_beta else None
+    exponent = _exponent(model, p)
+    alpha = c_v / _prefactor(exponent, float(m_eff), float(k_hertz), float(v))
+    if not domain.DOMAIN["alpha"].contains(alpha):
+        raise ValueError(
+            f"damping coefficient c = {c_v:g} {damping_unit(exponent)} gives alpha = {alpha:.6g} at "
+            f"m* = {float(m_eff):g} kg, k_Hertz = {float(k_hertz):g} N/m^1.5, v = {float(v):g} m/s; "
+            f"alpha must be in {domain.range_text('alpha')}")
+    if not law.needs_beta:
+        return alpha, None
+    tau_v = domain.check("tau", tau)
+    beta = tau_v / T
+    if not domain.DOMAIN["beta"].contains(beta):
+        raise ValueError(f"tau = {tau_v:g} s gives beta = tau / T = {beta:.6g} (T = {T:.6g} s); "
+                         f"beta must be in {domain.range_text('beta')}")
     return alpha, beta
 
 
@@ -266,7 +304,8 @@ class ImpactResult:
     Attributes:
         e: restitution coefficient v_out / v_i (0 when the contact does not separate).
         tc: contact time [s]; fmax [N] peak force at t_fmax [s]; dmax [m] peak overlap at
-        t_dmax [s]; residual [m] overlap left at the end; dissipated [J] damping work.
+        t_dmax [s] (these four None with ``history=False``); residual [m] overlap left at the
+        end; dissipated [J] damping work.
         T [s] time scale, alpha and beta the non-dimensional constants at this speed.
         t [s], delta [m], ddelta [m/s], force [N]: histories.
     """
@@ -284,10 +323,10 @@ class ImpactResult:
     beta: float | None
     e: float
     tc: float
-    fmax: float
-    t_fmax: float
-    dmax: float
-    t_dmax: float
+    fmax: float | None
+    t_fmax: float | None
+    dmax: float | None
+    t_dmax: float | None
     residual: float
     dissipated: float
     separated: bool
@@ -306,10 +345,15 @@ def to_physical(r: CollisionResult, *, m_eff: float, k_hertz: float, v: float, c
     """Scale a non-dimensional result: time by T, overlap by T v, speed by v, force by m* v / T."""
     T = time_scale(m_eff, k_hertz, v)
     L, F = T * v, m_eff * v / T
+
+    def scaled(x: float | None, unit: float) -> float | None:
+        return None if x is None else x * unit
+
     return ImpactResult(
         model=r.model, v=v, m_eff=m_eff, k_hertz=k_hertz, c=c, tau=tau, p=r.p, end=r.end, T=T,
-        alpha=r.alpha, beta=r.beta, e=r.e, tc=r.tc * T, fmax=r.fmax * F, t_fmax=r.t_fmax * T,
-        dmax=r.xmax * L, t_dmax=r.t_xmax * T, residual=r.residual * L,
+        alpha=r.alpha, beta=r.beta, e=r.e, tc=r.tc * T, fmax=scaled(r.fmax, F),
+        t_fmax=scaled(r.t_fmax, T), dmax=scaled(r.xmax, L), t_dmax=scaled(r.t_xmax, T),
+        residual=r.residual * L,
         dissipated=r.dissipated * m_eff * v * v, separated=r.separated,
         t=r.t * T, delta=r.x * L, ddelta=r.v * v, force=r.f * F,
     )
@@ -327,4 +371,5 @@ def impact(
     check_end(end)
     alpha, beta = damping_constants(model, c, m_eff=m_eff, k_hertz=k_hertz, v=v, tau=tau, p=p)
     r = collide(model, alpha, beta=beta, p=p, end=end, history=history)
-    return to_physical(r, m_eff=m_eff, k_hertz=k_hertz, v=v, c=c, tau=tau)
+    return to_physical(r, m_eff=float(m_eff), k_hertz=float(k_hertz), v=float(v), c=float(c),
+                       tau=None if tau is None else float(tau))

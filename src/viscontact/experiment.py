@@ -14,10 +14,11 @@ from functools import lru_cache
 from importlib import resources
 from typing import Any
 
+from . import domain
 from .calibration import alpha_from_e
 from .collision import check_end
 from .dimensional import (
-    check_positive, damping_coefficient, damping_unit, time_scale,
+    damping_coefficient, damping_unit, time_scale,
 )
 from .laws import STUDY_MODELS, lookup, resolve
 
@@ -142,9 +143,12 @@ def calibrate_physical(
     model: str, e: float, *, m_eff: float, k_hertz: float, v: float, beta: float | None = None,
     p: float | None = None, end: str = "force",
 ) -> PhysicalCalibration:
-    """The study's workflow for one law: T, alpha from e (Jian: at ``beta``), tau = beta T, c."""
+    """The study's workflow for one law: T, alpha from e (Jian: at ``beta``), tau = beta T, c.
+
+    Every number must lie in its domain (:mod:`viscontact.domain`), else ValueError."""
     check_end(end)
     lp = resolve(model, beta=beta, p=p)
+    e = domain.check("e", e)
     T = time_scale(m_eff, k_hertz, v)
     # one value: the exact solver answers in milliseconds and needs no table built first
     alpha = float(alpha_from_e(model, e, beta=beta, p=p, end=end, exact=True))
@@ -162,7 +166,11 @@ def calibrate_ball(
 ) -> dict[str, PhysicalCalibration]:
     """Every law calibrated to one ball's measured e at its measured impact speed."""
     b = ball(b) if isinstance(b, str) else b
-    check_positive("impact speed", b.v_in)
+    if not isinstance(b, Ball):
+        raise ValueError(f"ball must be a Ball or a ball's name, got {b!r}")
+    if (isinstance(models, str) or not isinstance(models, (tuple, list))
+            or not all(isinstance(m, str) for m in models)):
+        raise ValueError(f"models must be a sequence of model names, got {models!r}")
     out = {}
     for m in models:
         beta = b.beta if lookup(m).needs_beta else None

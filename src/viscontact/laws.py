@@ -20,6 +20,8 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import ClassVar
 
+from . import domain
+
 __all__ = ["ContactLaw", "LawParams", "LAWS", "MODELS", "resolve", "check_finite_nonneg"]
 
 
@@ -165,11 +167,9 @@ class LawParams:
 
 
 def check_finite_nonneg(name: str, value: float) -> float:
-    """Return ``value`` as float, or raise ValueError if it is not a finite number >= 0."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    """Return ``value`` as float, or raise ValueError if it is not a finite number >= 0
+    (a real number: not bool, str, None or complex; see :mod:`viscontact.domain`)."""
+    v = domain.check_number(name, value)
     if not math.isfinite(v) or v < 0:
         raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
     return v
@@ -195,20 +195,22 @@ def lookup(model: str) -> type[ContactLaw]:
 
 
 def resolve(model: str, *, beta: float | None = None, p: float | None = None) -> LawParams:
-    """Validate a model name and its extra parameters; ValueError says what is wrong."""
+    """Validate a model name and its extra parameters (beta, p inside their domain,
+    :mod:`viscontact.domain`); ValueError says what is wrong."""
     law = lookup(model)
     if law.needs_beta:
         if beta is None:
-            raise ValueError(f"model {law.name} needs beta (relaxation time / T, >= 0)")
-        beta_v = check_finite_nonneg("beta", beta)
+            raise ValueError(f"model {law.name} needs beta (relaxation time / T, "
+                             f"in {domain.range_text('beta')})")
+        beta_v = domain.check("beta", beta)
     else:
         if beta is not None:
             raise ValueError(f"model {law.name} takes no beta; only Jian has a relaxation time")
         beta_v = 0.0
     if law.p is None:
         if p is None:
-            raise ValueError("model power needs the exponent p (a finite number >= 0)")
-        p_v = check_finite_nonneg("p", p)
+            raise ValueError(f"model power needs the exponent p (in {domain.range_text('p')})")
+        p_v = domain.check("p", p)
     else:
         if p is not None:
             raise ValueError(f"model {law.name} has a fixed exponent p = {law.p}; p is only for 'power'")

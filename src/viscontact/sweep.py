@@ -14,11 +14,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from . import domain
 from .collision import check_end
-from .dimensional import check_positive, impact
-from .laws import check_finite_nonneg, lookup
+from .dimensional import _mass, impact
+from .laws import lookup
 
-__all__ = ["SweepResult", "velocity_sweep", "study_speeds", "SWEEP_FIELDS"]
+__all__ = ["SweepResult", "velocity_sweep", "study_speeds", "SWEEP_FIELDS", "MAX_SPEEDS"]
+
+#: most impact speeds one sweep takes (each is one collision with histories, ~10 ms)
+MAX_SPEEDS = 10_000
 
 #: columns of :meth:`SweepResult.rows`, with units
 SWEEP_FIELDS = (
@@ -38,8 +42,8 @@ class SweepResult:
 
     Attributes:
         model, p, end; m_eff [kg], k_hertz [N/m^1.5], c (unit N s / m^(1+p)), tau [s] (Jian).
-        v [m/s]; e; tc [s]; fmax [N]; dmax [m]; residual [m]; alpha, beta (nan for non-Jian)
-        and T [s] at each speed.  A contact that does not separate (zero-overlap end) has
+        v [m/s]; e; tc [s]; fmax [N]; dmax [m]; residual [m]; alpha, beta (None for a law
+        without one) and T [s] at each speed.  A contact that does not separate (zero-overlap end) has
         e = 0 and tc = inf.
     """
 
@@ -57,7 +61,7 @@ class SweepResult:
     dmax: np.ndarray = field(repr=False)
     residual: np.ndarray = field(repr=False)
     alpha: np.ndarray = field(repr=False)
-    beta: np.ndarray = field(repr=False)
+    beta: np.ndarray | None = field(repr=False)
     T: np.ndarray = field(repr=False)
 
     def rows(self) -> list[dict[str, Any]]:
@@ -66,7 +70,11 @@ class SweepResult:
         for i in range(self.v.size):
             row: dict[str, Any] = {"model": self.model}
             for name, _unit in SWEEP_FIELDS:
-                x = float(getattr(self, name)[i])
+                col = getattr(self, name)
+                if col is None:
+                    row[name] = None
+                    continue
+                x = float(col[i])
                 row[name] = x if math.isfinite(x) else None
             out.append(row)
         return out
@@ -83,16 +91,20 @@ def velocity_sweep(
     model: str, speeds: ArrayLike, *, m_eff: float, k_hertz: float, c: float,
     tau: float | None = None, p: float | None = None, end: str = "force",
 ) -> SweepResult:
-    """e, t_c, F_max, delta_max at each impact speed [m/s] with m*, k_Hertz, c, tau held fixed."""
+    """e, t_c, F_max, delta_max at each impact speed [m/s] with m*, k_Hertz, c, tau held fixed.
+
+    Every number must lie in its domain (:mod:`viscontact.domain`), and c (tau) must give an
+    alpha (beta) inside its domain at every speed, else ValueError.  At most
+    :data:`MAX_SPEEDS` speeds (each is one collision with histories)."""
     check_end(end)
-    v = np.atleast_1d(np.asarray(speeds, dtype=float)).ravel()
+    v = np.atleast_1d(domain.check_array("v", speeds, label="impact speed")).ravel()
     if v.size == 0:
         raise ValueError("give at least one impact speed")
-    for x in v:
-        check_positive("impact speed", x)
-    m_eff = check_positive("m_eff", m_eff)
-    k_hertz = check_positive("k_hertz", k_hertz)
-    c = check_finite_nonneg("damping coefficient c", c)
+    if v.size > MAX_SPEEDS:
+        raise ValueError(f"give at most {MAX_SPEEDS} impact speeds, got {v.size}")
+    m_eff = _mass(m_eff)
+    k_hertz = domain.check("k_hertz", k_hertz)
+    c = domain.check("c", c, label="damping coefficient c")
     name = lookup(model).name
     cols = {k: np.empty(v.size) for k, _ in SWEEP_FIELDS}
     p_val = math.nan
@@ -103,5 +115,7 @@ def velocity_sweep(
             cols[k][i] = getattr(r, k)
         cols["v"][i] = vi
         cols["beta"][i] = math.nan if r.beta is None else r.beta
+    if not lookup(model).needs_beta:
+        cols["beta"] = None
     return SweepResult(model=name, p=p_val, end=end, m_eff=m_eff, k_hertz=k_hertz, c=c, tau=tau,
                        **cols)

@@ -23,11 +23,12 @@ from dataclasses import dataclass
 
 # scipy is imported in the functions that use it: the command line loads this module for
 # its --help, which should not pay for scipy.
+from .. import domain
 from ..collision import check_end
 from ..dimensional import ContactPair
 from .formulas import (
     antypov_elliott_alpha, antypov_elliott_inverse, delivered_e, exact_alpha,
-    tsuji_polynomial, _check_e,
+    tsuji_polynomial, _check_target_e,
 )
 
 __all__ = ["Preset", "PRESETS", "ENGINES", "EngineAudit", "audit_engine", "get_preset"]
@@ -84,10 +85,7 @@ class Preset:
 
 
 def _positive_or_zero(name: str, value: float) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number >= 0, got {value!r}") from None
+    v = domain.check_number(name, value)
     if not (math.isfinite(v) and v >= 0):
         raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
     return v
@@ -321,7 +319,17 @@ def audit_engine(
     ``physical``.
     """
     pre = get_preset(engine, option)
-    e = _check_e(e)
+    e = _check_target_e(e)
+    if clamp is not None:
+        clamp = domain.check_bool("clamp", clamp)
+    if physical is not None and not isinstance(physical, ContactPair):
+        raise ValueError("physical must be a ContactPair with its impact speed "
+                         f"(ContactPair.from_effective(..., v=...)), got {physical!r}")
+    if value is not None:
+        label = f"value (the {pre.input_name} typed into {pre.engine} {pre.option})"
+        value = domain.check_number(label, value)
+        if not math.isfinite(value):
+            raise ValueError(f"{label} must be a finite number, got {value!r}")
     end = pre.end(clamp)
     check_end(end)
     c = pre.end_clamped == end

@@ -29,6 +29,7 @@ import numpy as np
 
 # scipy is imported in the functions that use it: the command line loads this module for
 # its --help, which should not pay for scipy.
+from .. import domain
 from ..calibration import alpha_from_e, restitution
 from ..collision import check_end
 from ..laws import lookup
@@ -43,13 +44,19 @@ SQRT5 = math.sqrt(5.0)
 
 
 def _check_e(e: float) -> float:
+    """A restitution coefficient in (0, 1], for the closed forms (they answer for any)."""
     try:
-        v = float(e)
-    except (TypeError, ValueError):
-        raise ValueError(f"e must be a number in (0, 1]; got {e!r}") from None
+        v = domain.check_number("e", e)
+    except ValueError:
+        v = math.nan
     if not (0.0 < v <= 1.0):
         raise ValueError(f"e must be a number in (0, 1]; got {e!r}")
     return v
+
+
+def _check_target_e(e: float) -> float:
+    """A target restitution for an exact solve: inside its domain (:mod:`viscontact.domain`)."""
+    return domain.check("e", e)
 
 
 # ----------------------------------------------------------------------------- Hunt-Crossley
@@ -289,10 +296,8 @@ def first_order_formula(model: str, p: float | None = None) -> Formula:
         raise ValueError("the first-order estimate is for laws with g = 1; Jian has a relaxation factor")
     if law.p is None:
         if p is None:
-            raise ValueError("model power needs the exponent p (a finite number >= 0)")
-        pp = float(p)
-        if not (math.isfinite(pp) and pp >= 0):
-            raise ValueError(f"p must be a finite number >= 0, got {p!r}")
+            raise ValueError(f"model power needs the exponent p (in {domain.range_text('p')})")
+        pp = domain.check("p", p)
     else:
         if p is not None:
             raise ValueError(f"model {law.name} has a fixed exponent p = {law.p}; p is only for 'power'")
@@ -381,7 +386,8 @@ def _exact_alpha_cached(model: str, p: float | None, e: float, end: str) -> floa
 def exact_alpha(model: str, e: float, end: str = "force", *, p: float | None = None) -> float:
     """The alpha that gives exactly ``e`` for ``model`` under ``end`` (NaN if unreachable)."""
     check_end(end)
-    return _exact_alpha_cached(lookup(model).name, None if p is None else float(p), _check_e(e), end)
+    return _exact_alpha_cached(lookup(model).name, None if p is None else float(p),
+                               _check_target_e(e), end)
 
 
 @lru_cache(maxsize=8192)
@@ -390,9 +396,11 @@ def _delivered_cached(model: str, p: float | None, alpha: float, end: str) -> fl
 
 
 def delivered_e(model: str, alpha: float, end: str = "force", *, p: float | None = None) -> float:
-    """The restitution that ``alpha`` really gives (exact solve); NaN for a NaN alpha."""
+    """The restitution that ``alpha`` really gives (exact solve); NaN for a NaN alpha or one
+    outside the domain of alpha ([0, 1000]: a formula may prescribe more)."""
     check_end(end)
-    if not math.isfinite(alpha):
+    alpha = domain.check_number("alpha", alpha)
+    if not domain.DOMAIN["alpha"].contains(alpha):
         return math.nan
     return _delivered_cached(lookup(model).name, None if p is None else float(p), float(alpha), end)
 
@@ -432,8 +440,10 @@ class FormulaAudit:
 def audit_formula(formula: Formula | str, e: float, end: str = "force") -> FormulaAudit:
     """Audit one formula at one target ``e`` under one end criterion."""
     f = get_formula(formula) if isinstance(formula, str) else formula
+    if not isinstance(f, Formula):
+        raise ValueError(f"formula must be a formula name or a Formula, got {formula!r}")
     check_end(end)
-    e = _check_e(e)
+    e = _check_target_e(e)
     a = f.alpha(e)
     d = delivered_e(f.model, a, end, p=f.p)
     return FormulaAudit(

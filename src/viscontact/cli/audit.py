@@ -14,6 +14,7 @@ from .common import add_force_option, print_json
 
 
 DEFAULT_OUT = "viscontact-report/audit"
+from ..domain import range_text as _R
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -28,11 +29,11 @@ def register(sub: argparse._SubParsersAction) -> None:
                       help=f"one of: first-order (with --model), {', '.join(FORMULAS)}")
     what.add_argument("--engine", metavar="NAME", help=f"one of: {', '.join(ENGINES)}")
     what.add_argument("--all", action="store_true", help="write every table and plot into --out")
-    p.add_argument("--e", type=float, help="target restitution coefficient in (0, 1]")
+    p.add_argument("--e", type=float, help=f"target restitution coefficient in {_R('e')}")
     p.add_argument("--end", choices=END_CRITERIA, default=None,
                    help="formulas: end criterion of the exact solve (default force)")
     p.add_argument("--model", default=None, help="formula first-order: the law (LH, Ts, KK, Li, Hunt, power)")
-    p.add_argument("--p", type=float, default=None, help="formula first-order with --model power: exponent")
+    p.add_argument("--p", type=float, default=None, help=f"formula first-order with --model power: exponent in {_R('p')}")
     p.add_argument("--damping", metavar="OPTION", default=None,
                    help="engine damping option; lammps: " + ", ".join(ENGINES["lammps"]))
     p.add_argument("--limit-damping", action="store_true",
@@ -43,18 +44,18 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="engine: the value you type (default: the target e for restitution inputs; for "
                    "physical dashpots the value calibrated for the zero-overlap criterion)")
     phys = p.add_argument_group("physical quantities (LAMMPS velocity, mass_velocity, viscoelastic)")
-    phys.add_argument("--m-eff", type=float, help="effective mass m* [kg]")
-    phys.add_argument("--r-eff", type=float, help="effective radius R* [m]")
-    phys.add_argument("--e-eff", type=float, help="effective modulus E* [Pa] (or give --k-hertz)")
-    phys.add_argument("--k-hertz", type=float, help="Hertz stiffness (4/3) E* sqrt(R*) [N/m^1.5]")
-    phys.add_argument("--v", type=float, help="impact speed v_i [m/s]")
+    phys.add_argument("--m-eff", type=float, help=f"effective mass m*, in {_R('mass')}")
+    phys.add_argument("--r-eff", type=float, help=f"effective radius R*, in {_R('radius')}")
+    phys.add_argument("--e-eff", type=float, help=f"effective modulus E*, in {_R('modulus')} (or give --k-hertz)")
+    phys.add_argument("--k-hertz", type=float, help=f"Hertz stiffness (4/3) E* sqrt(R*), in {_R('k_hertz')}")
+    phys.add_argument("--v", type=float, help=f"impact speed v_i, in {_R('v')}")
     p.add_argument("--out", default=None, metavar="DIR",
                    help=f"--all: output directory (default {DEFAULT_OUT}; a new or empty "
                    "directory, or one holding an earlier audit with --force)")
     add_force_option(p, "--all: the files of an earlier audit in --out")
     p.add_argument("--no-plots", action="store_true", help="--all: tables only")
     p.add_argument("--grid", type=float, nargs="+", metavar="E",
-                   help="--all: target e values (default 0.05, 0.10, ..., 0.95, 0.99)")
+                   help=f"--all: target e values in {_R('e')} (default 0.05, 0.10, ..., 0.95, 0.99)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(handler=_audit)
 

@@ -10,6 +10,7 @@ from typing import Any
 
 from ..laws import MODELS
 from ..solvers import END_CRITERIA
+from ..domain import range_text as _R
 
 
 def add_model_options(parser: argparse.ArgumentParser, required: bool = True,
@@ -17,7 +18,7 @@ def add_model_options(parser: argparse.ArgumentParser, required: bool = True,
     parser.add_argument("--model", required=required, metavar="NAME",
                         help=f"contact law: one of {', '.join(MODELS)}{model_help}")
     parser.add_argument("--p", type=float, default=None,
-                        help="damping exponent, only for --model power (p >= 0)")
+                        help=f"damping exponent, only for --model power; {_R('p')}")
     parser.add_argument("--end", choices=END_CRITERIA, default="force",
                         help="end of contact: zero force (default, the study's choice) or zero overlap")
 

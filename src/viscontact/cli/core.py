@@ -14,6 +14,7 @@ from ..collision import collide
 from .. import outputs
 from . import physical
 from .common import add_force_option, add_model_options, conflict, print_json
+from ..domain import range_text as _R
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -21,8 +22,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                        description="Solve one normal collision x'' + x^(3/2) + alpha g x^p x' = 0 "
                        "and print e, t_c, F_max, x_max, residual overlap and dissipated energy.")
     add_model_options(p)
-    p.add_argument("--alpha", type=float, required=True, help="damping constant alpha >= 0")
-    p.add_argument("--beta", type=float, default=None, help="relaxation time / T (Jian only)")
+    p.add_argument("--alpha", type=float, required=True, help=f"damping constant alpha in {_R('alpha')}")
+    p.add_argument("--beta", type=float, default=None,
+                   help=f"relaxation time / T (Jian only), in {_R('beta')}")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--histories", action="store_true", help="with --json: include t, x, v, f")
     p.add_argument("--plot", metavar="FILE.png", help="save x, x', F^ against t^ and the F^-x loop "
@@ -34,9 +36,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("restitution", help="e for one or more alpha values",
                        description="Coefficient of restitution for each alpha (and beta for Jian).")
     add_model_options(p)
-    p.add_argument("--alpha", type=float, nargs="+", required=True, help="one or more alpha >= 0")
+    p.add_argument("--alpha", type=float, nargs="+", required=True, help=f"one or more alpha in {_R('alpha')}")
     p.add_argument("--beta", type=float, nargs="+", default=None,
-                   help="Jian only: one beta, or one per alpha")
+                   help=f"Jian only: one beta, or one per alpha, in {_R('beta')}")
     p.add_argument("--csv", action="store_true", help="print CSV (alpha,beta,e)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(handler=_restitution)
@@ -50,8 +52,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_model_options(p, required=False,
                       model_help=" (required without physical options; with them, default: "
                       "every law of the study)")
-    p.add_argument("--e", type=float, default=None, help="target restitution coefficient in (0, 1]")
-    p.add_argument("--beta", type=float, default=None, help="relaxation time / T (Jian only)")
+    p.add_argument("--e", type=float, default=None,
+                   help=f"target restitution coefficient in {_R('e')}")
+    p.add_argument("--beta", type=float, default=None,
+                   help=f"relaxation time / T (Jian only), in {_R('beta')}")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     physical.add_physical_options(p)
     p.set_defaults(handler=_calibrate)

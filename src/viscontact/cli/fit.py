@@ -20,6 +20,7 @@ from ..fit.recording import (FORCE_UNITS, TIME_UNITS, Measured, RecordingError,
 from ..fit.synthetic import EXAMPLE, example_recording
 from ..laws import lookup
 from .common import add_force_option, finite_json, note, print_json
+from ..domain import range_text as _R
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -38,13 +39,13 @@ def register(sub: argparse._SubParsersAction) -> None:
                    f"{EXAMPLE['model']} drop of the {EXAMPLE['ball']} ball)")
     b = p.add_argument_group("the impact (SI units)")
     b.add_argument("--mass", "--m-eff", dest="mass", type=float, metavar="KG", required=True,
-                   help="mass of the ball m* [kg] (a ball on a rigid plate: m* = m)")
+                   help=f"mass of the ball m*, in {_R('mass')} (a ball on a rigid plate: m* = m)")
     b.add_argument("--radius", "--r-eff", dest="radius", type=float, metavar="M",
-                   help="radius R* [m] (optional: for the effective modulus E*)")
+                   help=f"radius R*, in {_R('radius')} (optional: for the effective modulus E*)")
     b.add_argument("--velocity", "--v", dest="velocity", type=float, nargs="+", metavar="M/S",
-                   help="impact speed [m/s]: one for all recordings, or one per recording")
+                   help=f"impact speed, in {_R('v')}: one for all recordings, or one per recording")
     b.add_argument("--drop-height", dest="drop_height", type=float, nargs="+", metavar="M",
-                   help="drop height [m] instead of --velocity (v = sqrt(2 g h), g = 9.81 m/s^2)")
+                   help=f"drop height, in {_R('drop_height')}, instead of --velocity (v = sqrt(2 g h), g = 9.81 m/s^2)")
     b.add_argument("--time-unit", choices=list(TIME_UNITS), default=None,
                    help="time unit of the files when their header gives none (default s)")
     b.add_argument("--force-unit", choices=list(FORCE_UNITS), default=None,
@@ -57,7 +58,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    "(the study's way; default: fit it too); the global fit always fits it")
     f.add_argument("--weights", type=float, nargs=3, default=[1.0, 0.0, 0.0],
                    metavar=("W_F", "W_DELTA", "W_RATE"),
-                   help="weights of the force, overlap and overlap-rate residuals, each scaled "
+                   help=f"weights of the force, overlap and overlap-rate residuals, each in {_R('weight')}, scaled "
                    "by F_max, delta_max, v_i (default 1 0 0: force only)")
     o = p.add_argument_group("output")
     o.add_argument("--out", metavar="DIR",

@@ -22,6 +22,7 @@ from ..laws import STUDY_MODELS, lookup
 from ..sweep import SWEEP_FIELDS, velocity_sweep
 from .. import outputs
 from .common import add_force_option, add_model_options, finite_json, note, print_json
+from ..domain import range_text as _R
 
 _PHYSICAL = ("ball", "mass", "radius", "k_hertz", "modulus", "poisson", "mass2", "radius2",
              "modulus2", "poisson2", "v", "drop_height")
@@ -33,25 +34,25 @@ def add_physical_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--ball", metavar="NAME",
                    help=f"use a ball of the drop tests: {', '.join(load_balls())} "
                    "(mass, radius, k_Hertz, v, e, beta; explicit options override)")
-    g.add_argument("--mass", type=float, metavar="KG", help="mass of the particle [kg]")
-    g.add_argument("--radius", type=float, metavar="M", help="radius of the particle [m]")
+    g.add_argument("--mass", type=float, metavar="KG", help=f"mass of the particle, in {_R('mass')}")
+    g.add_argument("--radius", type=float, metavar="M", help=f"radius of the particle, in {_R('radius')}")
     g.add_argument("--k-hertz", dest="k_hertz", type=float, metavar="N/M^1.5",
-                   help="Hertz stiffness k_Hertz [N/m^1.5] (or give --E and --nu with --radius)")
+                   help=f"Hertz stiffness k_Hertz, in {_R('k_hertz')} (or give --E and --nu with --radius)")
     g.add_argument("--E", "--modulus", dest="modulus", type=float, metavar="PA",
-                   help="Young's modulus [Pa]")
+                   help=f"Young's modulus, in {_R('modulus')}")
     g.add_argument("--nu", "--poisson", dest="poisson", type=float, metavar="NU",
-                   help="Poisson ratio, in (-1, 0.5]")
+                   help=f"Poisson ratio, in {_R('poisson')}")
     g.add_argument("--mass2", type=float, metavar="KG",
-                   help="mass of the second sphere [kg] (default: a fixed wall)")
+                   help=f"mass of the second sphere, in {_R('mass')} (default: a fixed wall)")
     g.add_argument("--radius2", type=float, metavar="M",
-                   help="radius of the second sphere [m] (default: a flat wall)")
+                   help=f"radius of the second sphere, in {_R('radius')} (default: a flat wall)")
     g.add_argument("--E2", "--modulus2", dest="modulus2", type=float, metavar="PA",
-                   help="Young's modulus of the second body [Pa] (default: rigid)")
+                   help=f"Young's modulus of the second body, in {_R('modulus')} (default: rigid)")
     g.add_argument("--nu2", "--poisson2", dest="poisson2", type=float, metavar="NU",
                    help="Poisson ratio of the second body (with --E2)")
-    g.add_argument("--v", type=float, metavar="M/S", help="impact speed [m/s]")
+    g.add_argument("--v", type=float, metavar="M/S", help=f"impact speed, in {_R('v')}")
     g.add_argument("--drop-height", dest="drop_height", type=float, metavar="M",
-                   help="drop height [m], instead of --v (v = sqrt(2 g h), g = 9.81 m/s^2)")
+                   help=f"drop height, in {_R('drop_height')}, instead of --v (v = sqrt(2 g h), g = 9.81 m/s^2)")
 
 
 def has_physical(args: argparse.Namespace) -> bool:
@@ -279,14 +280,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_model_options(p, required=False, model_help=" (default: every law of the study)")
     add_physical_options(p)
     d = p.add_argument_group("damping")
-    d.add_argument("--c", type=float, help="physical damping prefactor c [N s/m^(1+p)] (with --model)")
-    d.add_argument("--tau", type=float, help="relaxation time tau [s] (Jian, with --c)")
-    d.add_argument("--e", type=float, help="calibrate: restitution coefficient measured at --v")
-    d.add_argument("--beta", type=float, help="calibrate: Jian's beta = tau / T at --v")
+    d.add_argument("--c", type=float, help="physical damping prefactor c [N s/m^(1+p)] (with --model; it must give "
+                   f"alpha in {_R('alpha')} at every speed)")
+    d.add_argument("--tau", type=float, help=f"relaxation time tau [s] (Jian, with --c; beta = tau / T in {_R('beta')})")
+    d.add_argument("--e", type=float, help=f"calibrate: restitution coefficient measured at --v, in {_R('e')}")
+    d.add_argument("--beta", type=float, help=f"calibrate: Jian's beta = tau / T at --v, in {_R('beta')}")
     s = p.add_argument_group("speeds (default: 0.30 to 2.60 m/s, 24 values)")
-    s.add_argument("--speeds", type=float, nargs="+", metavar="M/S", help="impact speeds [m/s]")
-    s.add_argument("--v-min", type=float, metavar="M/S", help="lowest impact speed [m/s]")
-    s.add_argument("--v-max", type=float, metavar="M/S", help="highest impact speed [m/s]")
+    s.add_argument("--speeds", type=float, nargs="+", metavar="M/S", help=f"impact speeds, in {_R('v')}")
+    s.add_argument("--v-min", type=float, metavar="M/S", help=f"lowest impact speed, in {_R('v')}")
+    s.add_argument("--v-max", type=float, metavar="M/S", help=f"highest impact speed, in {_R('v')}")
     s.add_argument("--num", type=int, default=None, help="number of speeds (default 24)")
     o = p.add_argument_group("output (default: CSV on stdout)")
     o.add_argument("--csv", metavar="FILE", help="write CSV ('-': stdout)")

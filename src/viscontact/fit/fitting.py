@@ -31,7 +31,9 @@ import numpy as np
 
 # scipy is imported in the functions that use it: the command line loads this module for
 # its --help, which should not pay for scipy.
+from .. import domain
 from ..calibration import alpha_from_e
+from ..domain import ALPHA_MAX
 from ..dimensional import damping_coefficient, damping_constants, damping_unit, time_scale
 from ..laws import STUDY_MODELS, lookup
 from ..sweep import SweepResult, velocity_sweep
@@ -59,9 +61,7 @@ class Weights:
 
     def __post_init__(self) -> None:
         for name in ("force", "overlap", "rate"):
-            w = getattr(self, name)
-            if not (math.isfinite(w) and w >= 0):
-                raise ValueError(f"weight of {name} must be a finite number >= 0, got {w!r}")
+            domain.check("weight", getattr(self, name), label=f"weight of {name}")
         if self.force == self.overlap == self.rate == 0:
             raise ValueError("at least one weight (force, overlap, rate) must be > 0")
 
@@ -232,6 +232,15 @@ def _start_guess(law: str, e: float, beta: float | None, p: float | None) -> flo
         return 1.0
 
 
+def _check_fit_args(meas: Any, fit_k: Any, weights: Any) -> None:
+    """ValueError unless ``meas`` is a :class:`Measured`, ``fit_k`` a bool, ``weights`` Weights."""
+    if not isinstance(meas, Measured):
+        raise ValueError(f"fits need a Measured recording (measure(...)), got {meas!r}")
+    domain.check_bool("fit_k", fit_k)
+    if not isinstance(weights, Weights):
+        raise ValueError(f"weights must be a Weights(force, overlap, rate), got {weights!r}")
+
+
 def fit_law(
     meas: Measured, law: str, *, fit_k: bool = True, weights: Weights = Weights(),
     k_hertz: float | None = None, start: dict[str, float] | None = None,
@@ -246,14 +255,22 @@ def fit_law(
     name = lookup(law).name
     needs_beta = lookup(name).needs_beta
     free_p = lookup(name).p is None
-    start = dict(start or {})
+    _check_fit_args(meas, fit_k, weights)
+    if k_hertz is not None:
+        k_hertz = domain.check("k_hertz", k_hertz)
+    if start is not None and not isinstance(start, dict):
+        raise ValueError(f"start must be a dict of starting values, got {start!r}")
+    start = {k: domain.check(k, v_, label=f"start {k}") for k, v_ in (start or {}).items()
+             if k in ("alpha", "beta", "p")} | {k: v_ for k, v_ in (start or {}).items()
+                                                if k not in ("alpha", "beta", "p")}
     k_ref = float(k_hertz) if k_hertz is not None else meas.k_hertz
     beta0 = start.get("beta", 0.5) if needs_beta else None
     p0 = start.get("p", 0.5) if free_p else None
     alpha0 = start.get("alpha") or _start_guess(name, meas.e, beta0, p0)
     sample = 1.0 / meas.rate
     shift_max = _shift_bound(meas)
-    params = [_Param("alpha", alpha0, 0.0, max(20.0, 10.0 * alpha0))]
+    alpha0 = min(alpha0, ALPHA_MAX)
+    params = [_Param("alpha", alpha0, 0.0, min(ALPHA_MAX, max(20.0, 10.0 * alpha0)))]
     if needs_beta:
         params.append(_Param("beta", beta0, 0.0, 50.0))
     if free_p:
@@ -323,9 +340,14 @@ def fit_laws(
     The power law starts from the best fixed-exponent law found before it, so it does not
     settle in a poorer local minimum.  ``progress(law)`` is called after each law.
     """
+    if isinstance(laws, str) or not isinstance(laws, Sequence):
+        raise ValueError(f"laws must be a sequence of law names, got {laws!r}")
     names = [lookup(law).name for law in laws]
     if not names:
         raise ValueError("give at least one law to fit")
+    _check_fit_args(meas, fit_k, weights)
+    if progress is not None and not callable(progress):
+        raise ValueError(f"progress must be callable, got {progress!r}")
     fits: list[LawFit] = []
     for name in sorted(dict.fromkeys(names), key=lambda n: n == "power"):
         start = None
@@ -403,13 +425,21 @@ def fit_global(
     measured value).  ``sweep_points`` > 0 adds the law's e, t_c, F_max over the speeds of
     the recordings (+-20 %) with the fitted constants.
     """
+    if isinstance(measured, (str, Measured)) or not isinstance(measured, Sequence):
+        raise ValueError(f"measured must be a sequence of Measured recordings, got {measured!r}")
     if len(measured) < 1:
         raise ValueError("give at least one recording")
+    for m in measured:
+        _check_fit_args(m, fit_k, weights)
+    sweep_points = domain.check_int("sweep_points", sweep_points, 0, 10_000)
     name = lookup(law).name
     needs_beta = lookup(name).needs_beta
     free_p = lookup(name).p is None
     if start is None:
         start = [fit_law(m, name) for m in measured]
+    if (isinstance(start, str) or not isinstance(start, Sequence)
+            or not all(isinstance(f, LawFit) for f in start)):
+        raise ValueError(f"start must be a sequence of LawFit (one per recording), got {start!r}")
     if len(start) != len(measured) or any(f.law != name for f in start):
         raise ValueError(f"give one {name} fit per recording as start")
     c_ref = float(np.median([f.c for f in start])) or 1.0

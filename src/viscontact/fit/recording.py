@@ -26,7 +26,8 @@ import numpy as np
 
 # scipy is imported in the functions that use it: the command line loads this module for
 # its --help, which should not pay for scipy.
-from ..dimensional import check_positive
+from .. import domain
+from ..dimensional import _mass
 
 __all__ = [
     "Recording", "Measured", "RecordingError", "read_recording", "measure", "TIME_UNITS",
@@ -129,11 +130,20 @@ def read_recording(path: str | Path, *, time_unit: str | None = None,
     and may carry units: ``time [ms]``, ``force (kN)``, ``t_us``.  ``time_unit`` (s, ms, us)
     and ``force_unit`` (N, kN) apply where the header gives none; SI otherwise.
     """
+    if not isinstance(path, (str, Path)):
+        raise RecordingError(f"a recording is named by a path (str or pathlib.Path), got {path!r}")
+    for label, unit, table in (("time_unit", time_unit, TIME_UNITS),
+                               ("force_unit", force_unit, FORCE_UNITS)):
+        if unit is not None:
+            domain.check_choice(label, unit, tuple(table))
     path = str(path)
     try:
         text = Path(path).read_text(encoding="utf-8-sig")
     except UnicodeDecodeError:
         raise RecordingError(f"{path}: not a text file (CSV or whitespace-separated)") from None
+    except (OSError, ValueError) as exc:  # missing, a directory, unreadable, NUL in the name
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        raise RecordingError(f"{path}: cannot read the recording: {reason}") from None
     cols: tuple[int, int] | None = None
     units: tuple[str | None, str | None] = (None, None)
     ts: list[float] = []
@@ -329,6 +339,11 @@ def _value_at(t: np.ndarray, y: np.ndarray, t_at: float, half_width: float) -> f
     return float(np.polyval(np.polyfit(t[sel] - t_at, y[sel], 2), 0.0))
 
 
+#: how far above 1 a measured e may come from noise before the recording is refused as
+#: inconsistent (e = 1465 for a recording in ms read as seconds)
+_E_SLACK = 0.05
+
+
 def measure(rec: Recording, *, mass: float, v: float, radius: float | None = None,
             margin: float = 0.3) -> Measured:
     """e, t_c, F_max, delta_max, k_Hertz and the residual overlap read from a recording.
@@ -338,10 +353,13 @@ def measure(rec: Recording, *, mass: float, v: float, radius: float | None = Non
     Raises :class:`RecordingError` when no contact stands out of the noise, too few samples
     fall in the contact, or the plate saturated.
     """
-    mass = check_positive("mass", mass)
-    v = check_positive("impact speed", v)
+    if not isinstance(rec, Recording):
+        raise ValueError(f"measure needs a Recording (read_recording(...)), got {rec!r}")
+    mass = _mass(mass, "mass")
+    v = domain.check("v", v, label="impact speed")
     if radius is not None:
-        radius = check_positive("radius", radius)
+        radius = domain.check("radius", radius)
+    margin = domain.check("margin", margin)
     base, noise = _baseline(rec)
     f = rec.force - base
     t = rec.t
@@ -419,6 +437,16 @@ def measure(rec: Recording, *, mass: float, v: float, radius: float | None = Non
     tg, vel_g, del_g, t_dmax, dmax, k_hertz, vel_w, del_w = integrate(t_start)
     e = -float(vel_g[-1]) / v
     residual = float(np.interp(t_end, tg, del_g))
+    # a rebound faster than the impact beyond what noise explains: the numbers do not
+    # describe this recording (units, mass or speed wrong)
+    if e > 1.0 + _E_SLACK:
+        raise RecordingError(
+            f"{rec.path}: the recording gives e = {e:.4g} and a residual overlap of "
+            f"{residual:.3g} m for m* = {mass:g} kg and v = {v:g} m/s, impossible for an impact "
+            "(e must be <= 1, the overlap >= 0): check the time and force units (a header such "
+            "as 'time [ms]', or --time-unit/--force-unit), the mass and the impact speed")
+    e = min(e, 1.0)  # within the noise of 1
+    residual = max(residual, 0.0)  # an overlap cannot be negative: noise around 0 (Hunt)
     half = 0.05 * tc
     t_fmax, fmax = _parabola_peak(t, f, i_pk, max(2, int(round(half * rec.rate))))
     e_mod = None if radius is None else 0.75 * k_hertz / math.sqrt(radius)

@@ -17,6 +17,15 @@ T_MAX: float = 1000.0
 DEFAULT_RTOL: float = 1e-12
 
 
+def force_end_is_overlap_end(lp: LawParams) -> bool:
+    """True where the zero-force end is the zero-overlap end: Hunt-Crossley damping (p = 3/2,
+    g = 1), F = x^(3/2) (1 + alpha x').  The line x' = -1/alpha solves the equation (F = 0
+    there, so x'' = 0), so no solution starting at x' = 1 reaches it: F > 0 until x = 0.
+    Solvers then locate only x = 0; a zero-force event would fire where x' comes within
+    rounding of -1/alpha, long before the contact ends (t_c and residual wrong at alpha > ~50)."""
+    return lp.p == 1.5 and lp.beta == 0.0
+
+
 @dataclass
 class Contact:
     """Raw outcome of one non-dimensional collision (SPEC section 5).

@@ -58,7 +58,7 @@ from ..laws import LawParams
 from . import _dop853_lanes as L
 from ._dop853_lanes import SLOTS as _SLOTS
 from ._dop853_lanes import dop853_lanes
-from .base import END_CRITERIA, T_MAX, Contact
+from .base import END_CRITERIA, T_MAX, Contact, force_end_is_overlap_end
 
 __all__ = ["BatchResult", "solve_batch", "solve_batch_one", "BATCH_RTOL"]
 
@@ -341,7 +341,7 @@ def _make_solver(m: int, n_damp: int, nv: int, relax: bool):
                 s1, v1, t1 = S[L.S1 + l], S[L.V1 + l], S[L.T1 + l]
                 sep = t1 < t_max * (1.0 - 1e-12) and nsteps <= _MAX_STEPS
                 sep_out[k] = sep
-                e_out[k] = max(-v1, 0.0) if sep else 0.0
+                e_out[k] = min(max(-v1, 0.0), 1.0) if sep else 0.0  # e <= 1: energy
                 tc_out[k] = t1 if sep else math.inf
                 res_out[k] = max(s1, 0.0) ** m
                 w_out[k] = S[L.W1 + l] if nv == 4 else math.nan
@@ -423,6 +423,7 @@ def solve_batch(
     steps = np.empty(n, dtype=np.int64)
     m, p = lp.m, lp.p
     q = min(m * p, 1.5 * m)
+    force_end = end == "force" and not force_end_is_overlap_end(lp)
     n_damp = int(m * p) if m * p == int(m * p) and 1.5 * m < INT_POW_LIMIT else -1
     if not 0 <= n_damp < INT_POW_LIMIT:
         n_damp = -1
@@ -433,7 +434,7 @@ def solve_batch(
         solve_range = _solver(m, n_damp, 4 if dissipated else 3, bool(np.any(b > 0.0)))
 
         def run(lo: int) -> None:
-            solve_range(a, b, lo, min(n, lo + chunk), p, q, end == "force", rtol, rtol * 1e-2,
+            solve_range(a, b, lo, min(n, lo + chunk), p, q, force_end, rtol, rtol * 1e-2,
                         T_MAX, e, tc, res, w, sep, steps)
 
         starts = range(0, n, chunk)
@@ -447,7 +448,8 @@ def solve_batch(
         if over.size:
             raise ValueError(
                 f"alpha = {a[over[0]]:g} (beta = {b[over[0]]:g}) damps so strongly that the "
-                f"solver gave up after {_MAX_STEPS} steps; alpha up to about 1e4 is supported")
+                f"solver gave up after {_MAX_STEPS} steps; alpha in [0, 1000] is supported "
+                "(viscontact.domain)")
     return BatchResult(*(x.reshape(shape) for x in (e, tc, res, w, sep)))
 
 
