@@ -18,6 +18,8 @@ ranges are where the solvers were measured to answer right and promptly (README,
 - ``beta`` <= 1000: beyond, the relaxation factor 1 - exp(-t/beta) ~ t/beta stays below 3e-3
   over a contact of ordinary length (t_c ~ 3 T): practically undamped (measured correct up to
   beta = 1e12).
+- ``friction`` mu <= 10: a Coulomb coefficient above a few is already "never slips" (the
+  Mindlin spring alone acts); 10 leaves room for any measured value.
 - physical inputs (SI): wide enough for any particle from a nanometre grain to a boulder and
   narrow enough that every derived number (T, c, forces, energies) stays a finite normal
   float; T is computed as (m*/k)^(2/5) v^(-1/5), which never overflows inside these ranges.
@@ -39,13 +41,15 @@ from typing import Any
 __all__ = [
     "Range", "DOMAIN", "ALPHA_MAX", "BETA_MAX", "P_MAX", "E_MIN", "check", "check_number",
     "check_array", "range_text", "help_text", "check_choice", "check_bool", "check_int",
-    "domain_table",
+    "domain_table", "NP_MAX",
 ]
 
 ALPHA_MAX = 1000.0
 BETA_MAX = 1000.0
 P_MAX = 10.0
 E_MIN = 1e-6
+#: most MPI ranks ``dem run`` starts, all on this machine (a cluster runs mpirun itself)
+NP_MAX = 256
 
 
 @dataclass(frozen=True)
@@ -90,6 +94,7 @@ _RANGES = (
     Range("tau", 0.0, 1e300, "s", "relaxation time (beta = tau / T must fall in its range)"),
     Range("weight", 0.0, 1e6, "1", "fit weight"),
     Range("margin", 0.0, 10.0, "t_c", "samples kept around the contact"),
+    Range("friction", 0.0, 10.0, "1", "Coulomb friction coefficient mu (DEM)"),
 )
 #: parameter name -> its range (README section "Domain")
 DOMAIN: dict[str, Range] = {r.name: r for r in _RANGES}

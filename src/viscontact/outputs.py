@@ -16,9 +16,12 @@ How earlier output is recognised:
   The manifest of reports written before it existed, :data:`LEGACY_MANIFESTS`, lists names only.
   A directory counts as empty when all it holds is other output directories (``audit --all``
   writes into ``viscontact-report/audit`` by default, before or after ``reproduce``).
-* **Single files** (``sweep --csv/--json/--plot``, ``collide --plot``) carry a marker in the file:
-  PNG: a ``tEXt`` chunk with the keyword ``viscontact``; CSV: a first line ``# written by
-  viscontact COMMAND VERSION``; JSON: a first key ``"written_by": "viscontact COMMAND VERSION"``.
+* **Single files** (``sweep --csv/--json/--plot``, ``collide --plot``, ``dem run``'s log) carry
+  a marker in the file: PNG: a ``tEXt`` chunk with the keyword ``viscontact``; CSV: a first line
+  ``# written by viscontact COMMAND VERSION``; JSON: a first key ``"written_by": "viscontact
+  COMMAND VERSION"``; a LAMMPS log (first line ``LAMMPS (``): the same comment line among its
+  first lines, echoed there by LAMMPS from the first line of the input that ``dem run`` wrote
+  (:func:`text_marker`; LAMMPS itself writes the log, so only the check applies).
 
 Writing is atomic: a file goes through a temporary sibling and ``os.replace`` (or a hard link,
 which never replaces a file that appeared meanwhile); a directory is built in a temporary
@@ -53,14 +56,19 @@ from pathlib import Path
 from typing import Any
 
 __all__ = ["OutputError", "MANIFEST", "LEGACY_MANIFESTS", "PNG_KEY", "OutputDir", "check_file",
-           "write_png", "write_text", "write_json", "written_by", "read_manifest"]
+           "write_png", "write_text", "write_json", "written_by", "read_manifest", "text_marker"]
 
 MANIFEST = ".viscontact-output.json"
 LEGACY_MANIFESTS = {".viscontact-report": "reproduce"}
 PNG_KEY = b"viscontact"
 _PNG_SIG = b"\x89PNG\r\n\x1a\n"
-_TEXT_MARK = re.compile(r"# written by viscontact ([a-z-]+)\b")
-_JSON_MARK = re.compile(r'\{\s*"written_by":\s*"viscontact ([a-z-]+)\b')
+# COMMAND: one or two words ("sweep", "dem run"); the version after it starts with a digit
+_COMMAND = r"([a-z][a-z-]*(?: [a-z][a-z-]*)?)\b"
+_TEXT_MARK = re.compile(r"# written by viscontact " + _COMMAND)
+_JSON_MARK = re.compile(r'\{\s*"written_by":\s*"viscontact ' + _COMMAND)
+#: a LAMMPS log begins so; the input's first lines are echoed within its first few lines
+_LAMMPS_LOG = "LAMMPS ("
+_LAMMPS_ECHO_LINES = 12
 
 
 class OutputError(ValueError):
@@ -75,6 +83,13 @@ def _version() -> str:
 
 def _stamp(command: str) -> str:
     return f"viscontact {command} {_version()}"
+
+
+def text_marker(command: str) -> str:
+    """The marker line of a text file written by ``command``: ``# written by viscontact
+    COMMAND VERSION`` (the first line of a CSV; the first line of ``dem run``'s LAMMPS input,
+    which LAMMPS echoes into the log)."""
+    return f"# written by {_stamp(command)}"
 
 
 def _sha256(path: Path) -> str:
@@ -98,6 +113,9 @@ def written_by(path: str | os.PathLike) -> str | None:
         return None
     text = head.decode("utf-8", errors="replace")
     m = _TEXT_MARK.match(text) or _JSON_MARK.match(text)
+    if m is None and text.startswith(_LAMMPS_LOG):
+        lines = text.splitlines()[1:_LAMMPS_ECHO_LINES]
+        m = next(filter(None, map(_TEXT_MARK.match, lines)), None)
     return m.group(1) if m else None
 
 
@@ -202,7 +220,7 @@ def write_png(path: str, command: str, force: bool, option: str,
 
 def write_text(path: str, command: str, force: bool, option: str, text: str) -> Path:
     """A text file (CSV, Markdown) whose first line is ``# written by viscontact COMMAND ...``."""
-    body = f"# written by {_stamp(command)}\n{text}"
+    body = f"{text_marker(command)}\n{text}"
     return _write_file(path, command, force, option, None,
                        lambda tmp: tmp.write_text(body, encoding="utf-8"))
 

