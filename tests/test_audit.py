@@ -132,8 +132,12 @@ def test_audit_formula_fields():
     assert r.delivered_e == pytest.approx(vc.restitution("Hunt", 0.5625), abs=1e-12)
     assert r.exact_alpha == pytest.approx(vc.alpha_from_e("Hunt", 0.5), abs=1e-9)
     assert r.delivered_e > 0.7  # a well-known overestimate at low e
-    nan = F.audit_formula("schwager-poschel", 0.3, "force")
-    assert math.isnan(nan.alpha) and math.isnan(nan.delivered_e) and math.isfinite(nan.exact_alpha)
+    none = F.audit_formula("schwager-poschel", 0.3, "force")  # no alpha: None, never NaN
+    assert none.alpha is None and none.delivered_e is None and none.error is None
+    assert math.isfinite(none.exact_alpha) and "gives no alpha" in none.note
+    far = F.audit_formula("flores", 1e-3, "force")  # 8(1-e)/(5e) = 1598.4 > ALPHA_MAX
+    assert far.alpha == pytest.approx(8 * 0.999 / 5e-3) and far.delivered_e is None
+    assert far.error is None and "outside the domain [0, 1000]" in far.note
 
 
 def test_audit_formula_exact_alpha_is_exact():
@@ -219,7 +223,16 @@ def test_engine_physical_and_value():
 def test_engine_unreachable_input():
     # the LAMMPS Tsuji curve tops out at alpha = 1.2728: no e typed gives target 0.05 (clamped)
     r = audit_engine("lammps", "tsuji", 0.05, clamp=True)
-    assert math.isnan(r.input_for_target) and "no input" in r.note
+    assert r.input_for_target is None and "no input" in r.note
+
+
+def test_engine_value_beyond_the_domain_delivers_none():
+    """eta_n0 = 1e308 kg/s is alpha = eta_n0 T / m* ~ 1e306: no delivered e (None, not NaN)."""
+    r = audit_engine("lammps", "velocity", 0.7, physical=PHYS, value=1e308)
+    assert r.alpha == pytest.approx(1e308 * PHYS.T / PHYS.m_eff, rel=1e-12)
+    assert r.delivered_e is None and r.error is None
+    assert "outside the domain [0, 1000]" in r.note
+    assert r.input_for_target == pytest.approx(r.exact_alpha * PHYS.m_eff / PHYS.T)
 
 
 def test_engine_lookup_errors():

@@ -28,7 +28,7 @@ from ..collision import check_end
 from ..dimensional import ContactPair
 from .formulas import (
     antypov_elliott_alpha, antypov_elliott_inverse, delivered_e, exact_alpha,
-    tsuji_polynomial, _check_target_e,
+    missing_alpha_reason, tsuji_polynomial, unreachable_reason, _check_target_e,
 )
 
 __all__ = ["Preset", "PRESETS", "ENGINES", "EngineAudit", "audit_engine", "get_preset"]
@@ -269,12 +269,16 @@ class EngineAudit:
         target_e: the restitution the user wants.
         input_value: the value typed into the engine (``target_e`` for restitution-based
             options; for physical-unit dashpots the given value, or, when none was given, the
-            value calibrated exactly for the zero-overlap criterion).
+            value calibrated exactly for the zero-overlap criterion; None if there is none).
         alpha: the alpha that ``input_value`` gives.
-        delivered_e: the restitution the engine really produces (exact solve).
-        exact_alpha: the alpha that gives ``target_e`` under ``end``.
-        input_for_target: the value to type to get ``target_e`` (NaN if the engine's own formula
-            cannot express ``exact_alpha``; then ``note`` says why).
+        delivered_e: the restitution the engine really produces (exact solve; None for an
+            alpha outside the domain [0, 1000]).
+        error: delivered_e - target_e.
+        exact_alpha: the alpha that gives ``target_e`` under ``end`` (None if unreachable).
+        input_for_target: the value to type to get ``target_e`` (None if the engine's own
+            formula cannot express ``exact_alpha``).
+
+    A value that does not exist is None (never NaN), and ``note`` says why (docs/audit.md).
     """
 
     engine: str
@@ -285,12 +289,12 @@ class EngineAudit:
     target_e: float
     input_name: str
     input_units: str
-    input_value: float
-    alpha: float
-    delivered_e: float
-    error: float
-    exact_alpha: float
-    input_for_target: float
+    input_value: float | None
+    alpha: float | None
+    delivered_e: float | None
+    error: float | None
+    exact_alpha: float | None
+    input_for_target: float | None
     source: str
     mapping: str
     note: str = ""
@@ -343,27 +347,29 @@ def audit_engine(
             value = e
         else:
             a_ov = exact_alpha(pre.model, e, "overlap")
-            value = pre.from_alpha(a_ov, phys) if math.isfinite(a_ov) else math.nan
+            value = None if a_ov is None else pre.from_alpha(a_ov, phys)
             notes.append("no input value given: using the value calibrated exactly for the "
                          "zero-overlap criterion")
-    if math.isfinite(value):
+    alpha = d = None
+    if value is not None:
         alpha = pre.to_alpha(value, phys)
+        alpha = alpha if math.isfinite(alpha) else None  # e.g. an overflowing dashpot
         d = delivered_e(pre.model, alpha, end)
-    else:
-        alpha = d = math.nan
-    if math.isfinite(ex):
+        if d is None:
+            notes.append(missing_alpha_reason(alpha, f"the typed {pre.input_name}"))
+    inp = None
+    if ex is not None:
         try:
             inp = pre.from_alpha(ex, phys)
         except ValueError as exc:
-            inp = math.nan
             notes.append(f"no input gives e = {e:g}: {exc}")
     else:
-        inp = math.nan
-        notes.append(f"the {pre.model} law cannot reach e = {e:g} under the zero-{end} criterion")
+        notes.append(unreachable_reason(pre.model, e, end))
     return EngineAudit(
         engine=pre.engine, option=pre.option, model=pre.model, end=end, clamp=c, target_e=e,
-        input_name=pre.input_name, input_units=pre.input_units, input_value=float(value),
-        alpha=alpha, delivered_e=d, error=d - e, exact_alpha=ex, input_for_target=inp,
+        input_name=pre.input_name, input_units=pre.input_units,
+        input_value=None if value is None else float(value), alpha=alpha, delivered_e=d,
+        error=None if d is None else d - e, exact_alpha=ex, input_for_target=inp,
         source=pre.source, mapping=pre.mapping, note="; ".join(notes),
         T=phys.T if (phys is not None and pre.needs_physical) else None,
     )

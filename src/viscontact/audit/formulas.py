@@ -383,11 +383,12 @@ def _exact_alpha_cached(model: str, p: float | None, e: float, end: str) -> floa
         return math.nan
 
 
-def exact_alpha(model: str, e: float, end: str = "force", *, p: float | None = None) -> float:
-    """The alpha that gives exactly ``e`` for ``model`` under ``end`` (NaN if unreachable)."""
+def exact_alpha(model: str, e: float, end: str = "force", *, p: float | None = None) -> float | None:
+    """The alpha that gives exactly ``e`` for ``model`` under ``end`` (None if unreachable)."""
     check_end(end)
-    return _exact_alpha_cached(lookup(model).name, None if p is None else float(p),
-                               _check_target_e(e), end)
+    a = _exact_alpha_cached(lookup(model).name, None if p is None else float(p),
+                            _check_target_e(e), end)
+    return a if math.isfinite(a) else None
 
 
 @lru_cache(maxsize=8192)
@@ -395,45 +396,66 @@ def _delivered_cached(model: str, p: float | None, alpha: float, end: str) -> fl
     return float(restitution(model, alpha, p=p, end=end))
 
 
-def delivered_e(model: str, alpha: float, end: str = "force", *, p: float | None = None) -> float:
-    """The restitution that ``alpha`` really gives (exact solve); NaN for a NaN alpha or one
-    outside the domain of alpha ([0, 1000]: a formula may prescribe more)."""
+def delivered_e(model: str, alpha: float | None, end: str = "force", *,
+                p: float | None = None) -> float | None:
+    """The restitution that ``alpha`` really gives (exact solve); None when there is no alpha
+    or it lies outside the domain of alpha ([0, 1000]: a formula may prescribe more; see
+    :func:`missing_alpha_reason`)."""
     check_end(end)
+    if alpha is None:
+        return None
     alpha = domain.check_number("alpha", alpha)
     if not domain.DOMAIN["alpha"].contains(alpha):
-        return math.nan
+        return None
     return _delivered_cached(lookup(model).name, None if p is None else float(p), float(alpha), end)
+
+
+def missing_alpha_reason(alpha: float | None, owner: str) -> str:
+    """Why an alpha gives no delivered e (``owner``: whose alpha, e.g. "the formula"), or ""
+    when it gives one."""
+    if alpha is None:
+        return f"{owner} gives no alpha for this e; no delivered e"
+    if not domain.DOMAIN["alpha"].contains(alpha):
+        return (f"{owner}'s alpha {alpha:.6g} is outside the domain "
+                f"{domain.range_text('alpha')}; no delivered e")
+    return ""
 
 
 @dataclass(frozen=True)
 class FormulaAudit:
     """What one formula gives for one target e and one end criterion.
 
+    A value that does not exist is None (never NaN), and ``note`` says why (docs/audit.md).
+
     Attributes:
         formula, model, end: which formula, law and end criterion (``force``/``overlap``).
         target_e: the restitution the user asked for.
-        alpha: the formula's alpha (NaN when it has none for this e).
-        delivered_e: the restitution that alpha really produces (exact solve).
-        error: delivered_e - target_e.
-        exact_alpha: the alpha that gives target_e exactly (NaN if unreachable).
+        alpha: the formula's alpha (None when it has none for this e).
+        delivered_e: the restitution that alpha really produces (exact solve; None without an
+            alpha or for an alpha outside the domain [0, 1000]).
+        error: delivered_e - target_e (None with delivered_e).
+        exact_alpha: the alpha that gives target_e exactly (None if unreachable).
+        note: why a value is None ("" when none is).
     """
 
     formula: str
     model: str
     end: str
     target_e: float
-    alpha: float
-    delivered_e: float
-    error: float
-    exact_alpha: float
+    alpha: float | None
+    delivered_e: float | None
+    error: float | None
+    exact_alpha: float | None
     derived_for: str | None = None
     p: float | None = None
+    note: str = ""
 
     def to_dict(self) -> dict:
         return {
             "formula": self.formula, "model": self.model, "p": self.p, "end": self.end,
             "derived_for": self.derived_for, "target_e": self.target_e, "alpha": self.alpha,
             "delivered_e": self.delivered_e, "error": self.error, "exact_alpha": self.exact_alpha,
+            "note": self.note,
         }
 
 
@@ -445,9 +467,20 @@ def audit_formula(formula: Formula | str, e: float, end: str = "force") -> Formu
     check_end(end)
     e = _check_target_e(e)
     a = f.alpha(e)
+    a = a if math.isfinite(a) else None
     d = delivered_e(f.model, a, end, p=f.p)
+    ex = exact_alpha(f.model, e, end, p=f.p)
+    notes = [missing_alpha_reason(a, "the formula")]
+    if ex is None:
+        notes.append(unreachable_reason(f.model, e, end))
     return FormulaAudit(
         formula=f.name, model=f.model, end=end, target_e=e, alpha=a, delivered_e=d,
-        error=d - e, exact_alpha=exact_alpha(f.model, e, end, p=f.p),
-        derived_for=f.derived_for, p=f.p,
+        error=None if d is None else d - e, exact_alpha=ex,
+        derived_for=f.derived_for, p=f.p, note="; ".join(n for n in notes if n),
     )
+
+
+def unreachable_reason(model: str, e: float, end: str) -> str:
+    """Why no alpha gives ``e`` (the note of a None exact alpha)."""
+    return (f"the {model} law cannot reach e = {e:g} under the zero-{end} criterion with alpha "
+            f"in {domain.range_text('alpha')}")

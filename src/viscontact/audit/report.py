@@ -13,6 +13,7 @@ import os
 from collections.abc import Iterable, Sequence
 
 from ..dimensional import ContactPair
+from ..domain import range_text
 from .engines import ENGINES, EngineAudit, audit_engine, get_preset
 from .formulas import FORMULAS, FormulaAudit, audit_formula
 
@@ -33,7 +34,7 @@ DEFAULT_PHYSICAL = ContactPair(m_eff=0.1547, r_eff=0.03175, k_hertz=1.688e6, v=1
 ENDS = ("force", "overlap")
 
 _FORMULA_FIELDS = ["formula", "model", "p", "derived_for", "end", "target_e", "alpha", "delivered_e",
-                   "error", "exact_alpha"]
+                   "error", "exact_alpha", "note"]
 _ENGINE_FIELDS = ["engine", "option", "clamp", "model", "end", "target_e", "input_name", "input_units",
                   "input_value", "alpha", "delivered_e", "error", "exact_alpha", "input_for_target",
                   "note"]
@@ -71,6 +72,15 @@ def engine_rows(grid: Iterable[float] = DEFAULT_GRID,
     return out
 
 
+#: the numbers of a row that are None where they do not exist (shown as n/a, CSV: empty)
+_VALUES = {"alpha", "delivered_e", "error", "exact_alpha", "input_value", "input_for_target"}
+
+
+def _value(v: float | None, digits: int = 6) -> str:
+    """A number of a row, ``n/a`` where it does not exist (the row's note says why)."""
+    return "n/a" if v is None else _fmt(v, digits)
+
+
 def _fmt(v, digits: int = 6) -> str:
     if v is None:
         return ""
@@ -89,15 +99,14 @@ def _row(obj, fields: Sequence[str]) -> dict:
 
 
 def write_csv(rows: Sequence, path: str) -> str:
-    """Write formula or engine rows as CSV (empty cell for NaN)."""
+    """Write formula or engine rows as CSV (empty cell for a value that does not exist)."""
     fields = _FORMULA_FIELDS if rows and isinstance(rows[0], FormulaAudit) else _ENGINE_FIELDS
     with open(path, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=fields)
         w.writeheader()
         for r in rows:
             d = _row(r, fields)
-            w.writerow({k: ("" if isinstance(v, float) and not math.isfinite(v) else
-                            (repr(v) if isinstance(v, float) else v)) for k, v in d.items()})
+            w.writerow({k: repr(v) if isinstance(v, float) else v for k, v in d.items()})
     return path
 
 
@@ -107,7 +116,8 @@ def markdown_table(rows: Sequence) -> str:
     lines = ["| " + " | ".join(fields) + " |", "|" + "---|" * len(fields)]
     for r in rows:
         d = _row(r, fields)
-        lines.append("| " + " | ".join(_fmt(d[k]) for k in fields) + " |")
+        lines.append("| " + " | ".join(_value(d[k]) if k in _VALUES else _fmt(d[k])
+                                       for k in fields) + " |")
     return "\n".join(lines) + "\n"
 
 
@@ -124,14 +134,15 @@ def summary_markdown(e_values: Sequence[float] = SUMMARY_E,
     """Delivered e of every formula (both end criteria) and preset at ``e_values``."""
     out = ["### Published formulas: delivered e\n",
            "Each cell: e delivered by the formula's alpha (exact solve) under the zero-force / "
-           "zero-overlap end criterion. `n/a`: the formula has no alpha for that e.\n"]
+           "zero-overlap end criterion. `n/a`: the formula has no alpha for that e, or its alpha "
+           f"lies outside the domain {range_text('alpha')}.\n"]
     head = "| formula | law | derived for | " + " | ".join(f"e = {e:g} (force / overlap)" for e in e_values) + " |"
     out += [head, "|" + "---|" * (3 + len(e_values))]
     for name, f in FORMULAS.items():
         cells = []
         for e in e_values:
             a, b = (audit_formula(f, e, end).delivered_e for end in ENDS)
-            cells.append(f"{_fmt(a, 4)} / {_fmt(b, 4)}")
+            cells.append(f"{_value(a, 4)} / {_value(b, 4)}")
         out.append(f"| {name} | {f.law_label} | {f.derived_for or '-'} | " + " | ".join(cells) + " |")
     out += ["\n### DEM-engine presets: delivered e and the input for the target\n",
             "Each cell: delivered e when the target e is typed (restitution inputs) or, for dashpots "
@@ -145,7 +156,7 @@ def summary_markdown(e_values: Sequence[float] = SUMMARY_E,
         rows = [audit_engine(eng, opt, e, clamp=clamp, physical=physical) for e in e_values]
         r0 = rows[0]
         unit = "" if r0.input_units == "-" else f" [{r0.input_units}]"
-        cells = [f"{_fmt(r.delivered_e, 4)} [{_fmt(r.input_for_target, 5)}]" for r in rows]
+        cells = [f"{_value(r.delivered_e, 4)} [{_value(r.input_for_target, 5)}]" for r in rows]
         out.append(f"| {_engine_label(eng, opt, clamp)} | {r0.model} | zero {r0.end} | "
                    f"{r0.input_name}{unit} | " + " | ".join(cells) + " |")
     return "\n".join(out) + "\n"
@@ -172,7 +183,7 @@ def plot_formulas(rows: Sequence[FormulaAudit], path: str) -> str:
         ax.plot([0, 1], [0, 1], color="k", lw=0.8, label="delivered = target")
         for i, name in enumerate(names):
             pts = [(r.target_e, r.delivered_e) for r in rows if r.formula == name and r.end == end
-                   and math.isfinite(r.delivered_e)]
+                   and r.delivered_e is not None]
             if pts:
                 x, y = zip(*pts)
                 ax.plot(x, y, styles[i % len(styles)], color=cmap(i % 20), marker=".", ms=3, label=name)
@@ -199,7 +210,7 @@ def plot_engines(rows: Sequence[EngineAudit], path: str) -> str:
     cmap = plt.get_cmap("tab20")
     for i, (eng, opt, clamp, end) in enumerate(keys):
         pts = [(r.target_e, r.delivered_e) for r in rows if (r.engine, r.option, r.clamp, r.end)
-               == (eng, opt, clamp, end) and math.isfinite(r.delivered_e)]
+               == (eng, opt, clamp, end) and r.delivered_e is not None]
         if pts:
             x, y = zip(*pts)
             pre = get_preset(eng, opt)

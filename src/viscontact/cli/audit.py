@@ -109,11 +109,18 @@ def _formula(args: argparse.Namespace) -> int:
         return 0
     print(f"{f.name} ({f.title}; {f.law_label} law; {f.reference})")
     print(f"  target e            {r.target_e:.10g}")
-    print(f"  alpha (formula)     {r.alpha:.10g}")
-    print(f"  delivered e         {r.delivered_e:.10g}   (zero-{end} end, exact solve)")
-    print(f"  error               {r.error:+.3e}")
-    print(f"  exact alpha         {r.exact_alpha:.10g}")
+    print(f"  alpha (formula)     {_num(r.alpha)}")
+    print(f"  delivered e         {_num(r.delivered_e)}   (zero-{end} end, exact solve)")
+    print(f"  error               {_num(r.error, '+.3e')}")
+    print(f"  exact alpha         {_num(r.exact_alpha)}")
+    if r.note:
+        print(f"  note: {r.note}")
     return 0
+
+
+def _num(v: float | None, spec: str = ".10g", unit: str = "") -> str:
+    """A result's number, or ``none`` where it does not exist (the note line says why)."""
+    return "none" if v is None else f"{v:{spec}}{unit}"
 
 
 def _engine(args: argparse.Namespace) -> int:
@@ -145,11 +152,11 @@ def _engine(args: argparse.Namespace) -> int:
     if r.T is not None:
         print(f"  T = {r.T:.6g} s")
     print(f"  target e            {r.target_e:.10g}")
-    print(f"  you type {r.input_name:<10} {r.input_value:.10g}{unit}")
-    print(f"  alpha               {r.alpha:.10g}")
-    print(f"  delivered e         {r.delivered_e:.10g}   (error {r.error:+.3e})")
-    print(f"  exact alpha         {r.exact_alpha:.10g}")
-    print(f"  type instead        {r.input_for_target:.10g}{unit}   (gives e = {r.target_e:g})")
+    print(f"  you type {r.input_name:<10} {_num(r.input_value, unit=unit)}")
+    print(f"  alpha               {_num(r.alpha)}")
+    print(f"  delivered e         {_num(r.delivered_e)}   (error {_num(r.error, '+.3e')})")
+    print(f"  exact alpha         {_num(r.exact_alpha)}")
+    print(f"  type instead        {_num(r.input_for_target, unit=unit)}   (gives e = {r.target_e:g})")
     if r.note:
         print(f"  note: {r.note}")
     return 0
