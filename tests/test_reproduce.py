@@ -13,7 +13,6 @@ from viscontact.report import build
 from viscontact.report.build import MARKER, ReportError, report_files, reproduce
 from viscontact.study import ALPHA_GRID, BETA_GRID, PUBLISHED_E
 
-from conftest import run_cli
 
 FIGS = [f"fig{i:02d}.png" for i in range(2, 13)]
 

@@ -12,8 +12,9 @@ scipy are loaded by the functions that need them, not by the package.
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from ._lazy import lazy_exports
 
 __version__ = "0.1.0"
 
@@ -32,9 +33,7 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
     "solvers": ("END_CRITERIA", "T_MAX"),
     "sweep": ("SweepResult", "velocity_sweep"),
 }
-_MODULE_OF = {name: module for module, names in _EXPORTS.items() for name in names}
-
-__all__ = [*_MODULE_OF, "__version__"]
+__all__ = [name for names in _EXPORTS.values() for name in names] + ["__version__"]
 
 if TYPE_CHECKING:  # static analysers see the eager imports
     from .calibration import ALPHA_MAX, alpha_from_e, restitution
@@ -52,23 +51,4 @@ if TYPE_CHECKING:  # static analysers see the eager imports
     from .sweep import SweepResult, velocity_sweep
 
 
-def __getattr__(name: str) -> Any:
-    """A public name, or a submodule (``viscontact.experiment``), imported on first access."""
-    module = _MODULE_OF.get(name)
-    if module is not None:
-        value = getattr(importlib.import_module(f".{module}", __name__), name)
-    elif not name.startswith("__"):
-        try:
-            value = importlib.import_module(f".{name}", __name__)
-        except ModuleNotFoundError as exc:
-            if exc.name != f"{__name__}.{name}":
-                raise
-            raise AttributeError(f"module {__name__!r} has no attribute {name!r}") from None
-    else:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())

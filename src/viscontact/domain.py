@@ -33,7 +33,6 @@ shape; ragged nesting, strings, booleans, objects and complex entries raise ``Va
 
 from __future__ import annotations
 
-import math
 import numbers
 from dataclasses import dataclass
 from typing import Any

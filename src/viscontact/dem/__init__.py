@@ -18,8 +18,9 @@ Public names are imported on first use (PEP 562), as in :mod:`viscontact`.
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from .._lazy import lazy_exports
 
 #: module -> the public names it provides
 _EXPORTS: dict[str, tuple[str, ...]] = {
@@ -29,9 +30,7 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
     "run": ("RunResult", "LammpsError", "run_input"),
     "io": ("Frame", "read_log", "read_log_runs", "read_dump"),
 }
-_MODULE_OF = {name: module for module, names in _EXPORTS.items() for name in names}
-
-__all__ = list(_MODULE_OF)
+__all__ = [name for names in _EXPORTS.values() for name in names]
 
 if TYPE_CHECKING:
     from .coeff import CoeffLines, DemLaw, coeff_lines, contact_law
@@ -42,23 +41,4 @@ if TYPE_CHECKING:
     from .run import LammpsError, RunResult, run_input
 
 
-def __getattr__(name: str) -> Any:
-    """A public name, or a submodule, imported on first access."""
-    module = _MODULE_OF.get(name)
-    if module is not None:
-        value = getattr(importlib.import_module(f".{module}", __name__), name)
-    elif not name.startswith("__"):
-        try:
-            value = importlib.import_module(f".{name}", __name__)
-        except ModuleNotFoundError as exc:
-            if exc.name != f"{__name__}.{name}":
-                raise
-            raise AttributeError(f"module {__name__!r} has no attribute {name!r}") from None
-    else:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())

@@ -33,7 +33,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
+import numpy
 
 from .. import domain, outputs
 from .io import read_log
@@ -60,7 +60,7 @@ class RunResult:
         np: number of MPI ranks; seconds: wall time of the run.
     """
 
-    thermo: dict[str, np.ndarray]
+    thermo: dict[str, numpy.ndarray]
     log_path: Path
     returncode: int
     np: int

@@ -18,7 +18,7 @@ from ..laws import LAWS, STUDY_MODELS
 from ..parallel import forked_map
 from ..plotting import LAW_COLORS, LAW_MARKERS, plt
 from ..study import (
-    ALPHA_REF, BETA_GRID, BETA_REF, FIG6_BETAS, PUBLISHED_E, TABLE1_MODELS, BallStudy, StudyResults,
+    ALPHA_REF, BETA_GRID, BETA_REF, PUBLISHED_E, TABLE1_MODELS, BallStudy, StudyResults,
 )
 
 __all__ = ["FIGURES", "write_figures", "law_name", "shades"]

@@ -107,6 +107,8 @@ def source() -> str:
         key = "B" if i == ns else f"a{i}"
         tag = "n" if i == ns else str(i)  # the step's end: "n"
         for c in _COMPONENTS:
+            if c == "w" and i < ns:
+                continue  # the right-hand side does not depend on w: only its end value is used
             out.append(f"{ind}{c}{tag} = {c}0 + h * ({combo(c, key)})")
         kt = "n" if i == ns else str(i)
         out.append(f"{ind}ks{kt}, kv{kt}, kt{kt}, kw{kt} = _rhs(s{tag}, v{tag}, t{tag}, al, bl, "

@@ -232,6 +232,43 @@ double PairViscontact::init_one(int i, int j)
   return maxrad[i] + maxrad[j];
 }
 
+namespace {
+/* The geometry and kinematics of one touching sphere pair (i, j), shared by compute() and
+   single(): dx = x_i - x_j with rsq = |dx|^2 < (r_i + r_j)^2. */
+struct PairContact {
+  double r, rinv, delta;   // distance, 1 / distance, overlap r_i + r_j - r [m]
+  double n[3];             // unit normal from j to i
+  double vtr[3];           // relative tangential velocity of the contact point [m/s]
+  double ddelta;           // overlap rate (> 0 approaching) [m/s]
+  double meff, reff;       // m* [kg], R* [m]
+};
+
+inline PairContact pair_contact(const double dx[3], double rsq, double radi, double radj,
+                                const double vi[3], const double vj[3], const double wi[3],
+                                const double wj[3], double mi, double mj)
+{
+  PairContact c;
+  const double radsum = radi + radj;
+  c.r = std::sqrt(rsq);
+  c.rinv = 1.0 / c.r;
+  c.delta = radsum - c.r;
+  for (int k = 0; k < 3; k++) c.n[k] = dx[k] * c.rinv;
+  const double vr[3] = {vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]};
+  const double wr[3] = {radi * wi[0] + radj * wj[0], radi * wi[1] + radj * wj[1],
+                        radi * wi[2] + radj * wj[2]};
+  c.ddelta = -vc::relative_tangential_velocity(vr, wr, c.n, c.vtr);
+  c.meff = mi * mj / (mi + mj);
+  c.reff = radi * radj / radsum;
+  return c;
+}
+
+/// the time of the current step [s], as LAMMPS counts it (atime at atimestep, then dt a step)
+inline double time_now(const Update *update)
+{
+  return update->atime + (double) (update->ntimestep - update->atimestep) * update->dt;
+}
+}    // namespace
+
 void PairViscontact::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
@@ -243,7 +280,7 @@ void PairViscontact::compute(int eflag, int vflag)
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
   const double dt = update->dt;
-  const double t_now = update->atime + (double) (update->ntimestep - update->atimestep) * dt;
+  const double t_now = time_now(update);
   // forces of a run's setup must not advance the history (as pair granular)
   const bool history_update = !update->setupflag;
   FixViscontactHistory *fh = (fix_history && fix_history->ready()) ? fix_history : nullptr;
@@ -281,19 +318,10 @@ void PairViscontact::compute(int eflag, int vflag)
         continue;
       }
       const vc::LawParams &lp = params[itype][jtype];
-      const double r = std::sqrt(rsq);
-      const double rinv = 1.0 / r;
-      const double delta = radsum - r;
-      const double n[3] = {dx[0] * rinv, dx[1] * rinv, dx[2] * rinv};
-      const double vr[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
-      const double wr[3] = {radi * omega[i][0] + radj * omega[j][0],
-                            radi * omega[i][1] + radj * omega[j][1],
-                            radi * omega[i][2] + radj * omega[j][2]};
-      double vtr[3];
-      const double ddelta = -vc::relative_tangential_velocity(vr, wr, n, vtr);
-      const double mi = rmass[i], mj = rmass[j];
-      const double meff = mi * mj / (mi + mj);
-      const double reff = radi * radj / radsum;
+      const PairContact c = pair_contact(dx, rsq, radi, radj, v[i], v[j], omega[i], omega[j],
+                                         rmass[i], rmass[j]);
+      const double delta = c.delta, ddelta = c.ddelta, meff = c.meff, reff = c.reff;
+      const double *n = c.n, *vtr = c.vtr;
       {
         // per-contact coefficients depend on (types, m*, R*) only: a small direct-mapped cache
         // saves the powers of the alpha form for the few distinct contacts of most packings
@@ -377,23 +405,14 @@ double PairViscontact::single(int i, int j, int itype, int jtype, double rsq, do
   const double radsum = radi + radj;
   if (rsq >= radsum * radsum) return 0.0;
   const vc::LawParams &lp = params[itype][jtype];
-  const double r = std::sqrt(rsq);
-  const double rinv = 1.0 / r;
-  const double delta = radsum - r;
-  const double n[3] = {(x[i][0] - x[j][0]) * rinv, (x[i][1] - x[j][1]) * rinv,
-                       (x[i][2] - x[j][2]) * rinv};
-  const double vr[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
-  const double wr[3] = {radi * omega[i][0] + radj * omega[j][0],
-                        radi * omega[i][1] + radj * omega[j][1],
-                        radi * omega[i][2] + radj * omega[j][2]};
-  double vtr[3];
-  const double ddelta = -vc::relative_tangential_velocity(vr, wr, n, vtr);
-  const double mi = atom->rmass[i], mj = atom->rmass[j];
-  const double meff = mi * mj / (mi + mj);
-  const double reff = radi * radj / radsum;
-  const vc::ContactCoeffs cc = vc::contact_coeffs(lp, meff, reff);
+  const double dx[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+  const PairContact c = pair_contact(dx, rsq, radi, radj, v[i], v[j], omega[i], omega[j],
+                                     atom->rmass[i], atom->rmass[j]);
+  const double delta = c.delta, ddelta = c.ddelta, reff = c.reff, rinv = c.rinv;
+  const double *n = c.n, *vtr = c.vtr;
+  const vc::ContactCoeffs cc = vc::contact_coeffs(lp, c.meff, reff);
   const double dt = update->dt;
-  const double t_now = update->atime + (double) (update->ntimestep - update->atimestep) * dt;
+  const double t_now = time_now(update);
 
   // this contact's history in the pair's neighbour list (i's entry for j), if any
   double hist[vc::HISTORY_SIZE] = {0.0, 0.0, 0.0, vc::contact_start_time(t_now, dt, delta, ddelta)};
