@@ -55,15 +55,16 @@ _PACK = _PACK_HEAD + """\
 run {steps}
 write_dump all custom {out} id xu yu zu vx vy vz omegax omegay omegaz modify sort id format float %.17g
 """
-_SETUP = """\
-fix bal all balance 50 1.0 shift x 5 1.02
+#: the pack settles on a native granular floor under gravity (this and the native comparison)
+_SETTLE = """\
 fix floor all wall/gran granular hertz/material 1e7 0.3 0.3 tangential linear_nohistory 0 0 zplane 0.0 NULL
 fix g all gravity 9.81 vector 0 0 -1
 fix 1 all nve/sphere
 neighbor 0.0002 bin
 neigh_modify delay 0 every 1 check yes
 timestep 5e-6
-thermo 100"""
+"""
+_SETUP = "fix bal all balance 50 1.0 shift x 5 1.02\n" + _SETTLE + "thermo 100"
 LAWS = {"KK": "KK alpha 0.3 vref 1.0", "Jian": "Jian alpha 0.3 vref 1.0 beta 0.5"}
 
 
@@ -421,12 +422,7 @@ comm_modify vel yes
 read_data native.data
 pair_style {ps}
 pair_coeff * * {pc}
-fix floor all wall/gran granular hertz/material 1e7 0.3 0.3 tangential linear_nohistory 0 0 zplane 0.0 NULL
-fix g all gravity 9.81 vector 0 0 -1
-fix 1 all nve/sphere
-neighbor 0.0002 bin
-neigh_modify delay 0 every 1 check yes
-timestep 5e-6
+""" + _SETTLE + """\
 thermo 50
 thermo_style custom step press pxx pyy pzz pxy pxz pyz
 thermo_modify format float %.17g
