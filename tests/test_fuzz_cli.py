@@ -537,6 +537,27 @@ def test_extremes(userdir, argv):
     assert not o.problems, o.problems
 
 
+def test_dem_run_inputs_that_cannot_be_read(userdir):
+    """A FIFO, a dangling link, a file without read permission (readable anyway by root), an
+    empty file: one line and exit 2, or a run (exit 0) where LAMMPS can read it; never more."""
+    root, files = userdir
+    os.mkfifo(root / "in.fifo")
+    (root / "in.link").symlink_to(root / "no-such-target.in")
+    (root / "in.locked").write_bytes(TINY_INPUT)
+    (root / "in.locked").chmod(0)
+    (root / "in.empty").write_bytes(b"")
+    for name, statuses in (("in.fifo", {2}), ("in.link", {2}), ("in.locked", {0, 2}),
+                           ("in.empty", {0})):
+        o = call(["dem", "run", name, "--no-progress", "--json"], deadline=60)
+        if LMP_REASON and o.status == 2:
+            continue  # no LAMMPS: the one line says what to install
+        assert o.status in statuses and not o.problems, (name, o.status, o.err, o.problems)
+        if o.status == 2:
+            assert ("not a file" in o.err or "does not exist" in o.err
+                    or "ERROR" in o.err), (name, o.err)
+    assert lost_files(root, files) == []
+
+
 @pytest.mark.parametrize("argv,none", [
     (["audit", "--formula", "flores", "--e", "1e-3"],
      {"delivered_e", "error"}),  # the formula's alpha 1598.4 > 1000
