@@ -273,7 +273,7 @@ class EngineAudit:
         alpha: the alpha that ``input_value`` gives.
         delivered_e: the restitution the engine really produces (exact solve; None for an
             alpha outside the domain [0, 1000]).
-        error: delivered_e - target_e.
+        error: delivered_e - target_e (None with delivered_e).
         exact_alpha: the alpha that gives ``target_e`` under ``end`` (None if unreachable).
         input_for_target: the value to type to get ``target_e`` (None if the engine's own
             formula cannot express ``exact_alpha``).
