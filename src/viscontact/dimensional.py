@@ -21,7 +21,7 @@ F_d = c (1 - exp(-t/tau)) delta^(1/2) delta', tau = beta T):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -99,17 +99,56 @@ def hertz_stiffness(e_eff: float, r_eff: float) -> float:
 
 @dataclass(frozen=True)
 class ContactPair:
-    """Effective properties of one contact (SPEC section 1), SI units.
+    """Effective properties of one contact (SPEC section 1), SI units; the one physical
+    description of a contact pair used by the audit, the fit and the DEM layer.
 
     Attributes:
-        m_eff: m* [kg]; r_eff: R* [m] (None when only k_Hertz was given);
-        e_eff: E* [Pa] (None when k_Hertz was given directly); k_hertz: k_Hertz [N/m^1.5].
+        m_eff: m* [kg]; k_hertz: k_Hertz = (4/3) E* sqrt(R*) [N/m^1.5];
+        r_eff: R* [m] (None when only k_Hertz was given);
+        e_eff: E* [Pa] (None when k_Hertz was given directly);
+        v: the normal impact speed v_i [m/s] when the pair describes one collision (None
+        otherwise; :meth:`at` sets it).  Speed-dependent quantities (:attr:`T`) need it.
+
+    Every given value must be a finite number > 0 (ValueError otherwise).
     """
 
     m_eff: float
     k_hertz: float
     r_eff: float | None = None
     e_eff: float | None = None
+    v: float | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("m_eff", "k_hertz", "r_eff", "e_eff", "v"):
+            value = getattr(self, name)
+            if value is not None or name in ("m_eff", "k_hertz"):
+                object.__setattr__(self, name, check_positive(name, value))
+
+    @classmethod
+    def from_effective(
+        cls, *, m_eff: float, r_eff: float | None = None, e_eff: float | None = None,
+        k_hertz: float | None = None, v: float | None = None,
+    ) -> "ContactPair":
+        """From the effective quantities: m* [kg], R* [m], and exactly one of E* [Pa]
+        (k_Hertz = (4/3) E* sqrt(R*), needs R*) or k_Hertz [N/m^1.5]; optional speed v [m/s]."""
+        if (e_eff is None) == (k_hertz is None):
+            raise ValueError("give exactly one of E_eff (effective modulus E*) and k_Hertz")
+        if e_eff is not None:
+            if r_eff is None:
+                raise ValueError("k_Hertz from E_eff needs the effective radius R*")
+            k_hertz = hertz_stiffness(e_eff, r_eff)
+        return cls(m_eff=m_eff, k_hertz=k_hertz, r_eff=r_eff, e_eff=e_eff, v=v)
+
+    def at(self, v: float) -> "ContactPair":
+        """The same pair at normal impact speed ``v`` [m/s] (> 0)."""
+        return replace(self, v=check_positive("impact speed v", v))
+
+    @property
+    def T(self) -> float:
+        """Time scale T = (m*^2 / (k_Hertz^2 v_i))^(1/5) [s] at the pair's impact speed."""
+        if self.v is None:
+            raise ValueError("the time scale T needs the impact speed v: use ContactPair.at(v)")
+        return time_scale(self.m_eff, self.k_hertz, self.v)
 
 
 def contact_pair(

@@ -8,9 +8,9 @@
 """
 
 from .formulas import FORMULAS, Formula, FormulaAudit, audit_formula, get_formula
-from .engines import ENGINES, EngineAudit, Physical, Preset, audit_engine, get_preset
+from .engines import ENGINES, EngineAudit, Preset, audit_engine, get_preset
 
 __all__ = [
-    "ENGINES", "EngineAudit", "FORMULAS", "Formula", "FormulaAudit", "Physical", "Preset",
+    "ENGINES", "EngineAudit", "FORMULAS", "Formula", "FormulaAudit", "Preset",
     "audit_engine", "audit_formula", "get_formula", "get_preset",
 ]

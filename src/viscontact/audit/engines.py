@@ -11,11 +11,8 @@ Units: SI (any consistent set works; T must come out in the engine's time unit).
 Physical inputs.  The dashpots whose coefficient is fixed in physical units (LAMMPS
 ``velocity``, ``mass_velocity``, ``viscoelastic``) have an alpha that depends on the impact
 speed through T = (m*^2 / (k_Hertz^2 v))^(1/5) (SPEC section 1); they need a
-:class:`Physical`.  The restitution-based options (Tsuji-type, c = alpha sqrt(m* k_Hertz)
+:class:`viscontact.dimensional.ContactPair` with its impact speed (``ContactPair.at(v)``).  The restitution-based options (Tsuji-type, c = alpha sqrt(m* k_Hertz)
 delta^(1/4)) have an alpha independent of speed, mass and stiffness.
-
-Note for the maintainers: the small T / k_Hertz helpers here are private on purpose
-(``viscontact.dimensional`` is being written in parallel); fold them into it later.
 """
 
 from __future__ import annotations
@@ -27,60 +24,13 @@ from dataclasses import dataclass
 # scipy is imported in the functions that use it: the command line loads this module for
 # its --help, which should not pay for scipy.
 from ..collision import check_end
+from ..dimensional import ContactPair
 from .formulas import (
     antypov_elliott_alpha, antypov_elliott_inverse, delivered_e, exact_alpha,
     tsuji_polynomial, _check_e,
 )
 
-__all__ = ["Physical", "Preset", "PRESETS", "ENGINES", "EngineAudit", "audit_engine", "get_preset"]
-
-
-# ----------------------------------------------------------------- physical quantities
-def _positive(name: str, value: float) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number > 0, got {value!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    return v
-
-
-@dataclass(frozen=True)
-class Physical:
-    """The physical quantities of one collision (SI).
-
-    Attributes:
-        m_eff: effective mass m* = m1 m2 / (m1 + m2) [kg].
-        r_eff: effective radius R* = R1 R2 / (R1 + R2) [m].
-        k_hertz: Hertz stiffness (4/3) E* sqrt(R*) [N / m^(3/2)].
-        v: normal impact speed v_i [m/s].
-    """
-
-    m_eff: float
-    r_eff: float
-    k_hertz: float
-    v: float
-
-    def __post_init__(self) -> None:
-        for name in ("m_eff", "r_eff", "k_hertz", "v"):
-            _positive(name, getattr(self, name))
-
-    @classmethod
-    def build(cls, *, m_eff: float, r_eff: float, v: float, e_eff: float | None = None,
-              k_hertz: float | None = None) -> "Physical":
-        """From E* (``e_eff``, Pa) or ``k_hertz`` directly (give exactly one)."""
-        if (e_eff is None) == (k_hertz is None):
-            raise ValueError("give exactly one of E_eff (effective modulus E*) and k_Hertz")
-        r = _positive("r_eff", r_eff)
-        k = k_hertz if k_hertz is not None else 4.0 / 3.0 * _positive("e_eff", e_eff) * math.sqrt(r)
-        return cls(m_eff=_positive("m_eff", m_eff), r_eff=r, k_hertz=_positive("k_hertz", k),
-                   v=_positive("v", v))
-
-    @property
-    def T(self) -> float:
-        """Time scale T = (m*^2 / (k_Hertz^2 v_i))^(1/5) [s] (SPEC section 2)."""
-        return (self.m_eff**2 / (self.k_hertz**2 * self.v)) ** 0.2
+__all__ = ["Preset", "PRESETS", "ENGINES", "EngineAudit", "audit_engine", "get_preset"]
 
 
 # ----------------------------------------------------------------------------- presets
@@ -92,8 +42,8 @@ class Preset:
         engine, option: e.g. ``lammps`` / ``coeff_restitution``.
         model: the viscontact law (``LH``, ``Ts``, ``KK``).
         input_name, input_units: what the user types (``e`` for restitution-based options).
-        to_alpha: (typed value, Physical or None) -> alpha.
-        from_alpha: (alpha, Physical or None) -> typed value; ValueError if the engine's
+        to_alpha: (typed value, ContactPair at its speed, or None) -> alpha.
+        from_alpha: (alpha, ContactPair at its speed, or None) -> typed value; ValueError if the engine's
             own formula cannot express that alpha.
         end_clamped, end_unclamped: the end criterion with the clamp flag on / off.
         clamp_flag: the engine's name for the clamp (None: fixed by the engine).
@@ -106,8 +56,8 @@ class Preset:
     model: str
     input_name: str
     input_units: str
-    to_alpha: Callable[[float, Physical | None], float]
-    from_alpha: Callable[[float, Physical | None], float]
+    to_alpha: Callable[[float, ContactPair | None], float]
+    from_alpha: Callable[[float, ContactPair | None], float]
     end_clamped: str
     end_unclamped: str
     clamp_flag: str | None
@@ -143,8 +93,8 @@ def _positive_or_zero(name: str, value: float) -> float:
     return v
 
 
-def _need(phys: Physical | None, what: str) -> Physical:
-    if phys is None:
+def _need(phys: ContactPair | None, what: str) -> ContactPair:
+    if phys is None or phys.r_eff is None or phys.v is None:
         raise ValueError(f"{what} damping is in physical units: give m_eff, r_eff, E_eff (or k_Hertz) "
                          "and the impact speed v")
     return phys
@@ -160,22 +110,22 @@ def _e_input(e: float) -> float:
     return v
 
 
-def _ae_to(e: float, _phys: Physical | None) -> float:
+def _ae_to(e: float, _phys: ContactPair | None) -> float:
     return antypov_elliott_alpha(_e_input(e))
 
 
-def _ae_from(alpha: float, _phys: Physical | None) -> float:
+def _ae_from(alpha: float, _phys: ContactPair | None) -> float:
     return antypov_elliott_inverse(alpha)
 
 
-def _tsuji_to(factor: float) -> Callable[[float, Physical | None], float]:
+def _tsuji_to(factor: float) -> Callable[[float, ContactPair | None], float]:
     return lambda e, _p: factor * tsuji_polynomial(_e_input(e))
 
 
-def _tsuji_from(factor: float) -> Callable[[float, Physical | None], float]:
+def _tsuji_from(factor: float) -> Callable[[float, ContactPair | None], float]:
     lo_a, hi_a = factor * tsuji_polynomial(1.0), factor * tsuji_polynomial(0.0)
 
-    def inv(alpha: float, _p: Physical | None) -> float:
+    def inv(alpha: float, _p: ContactPair | None) -> float:
         # the polynomial is strictly decreasing on [0, 1] (tested)
         if not (lo_a <= alpha <= hi_a):
             raise ValueError(f"the Tsuji curve used by LAMMPS spans alpha in [{lo_a:.4g}, {hi_a:.4g}] "
@@ -361,7 +311,7 @@ class EngineAudit:
 
 def audit_engine(
     engine: str, option: str | None, e: float, *, clamp: bool | None = None,
-    physical: Physical | None = None, value: float | None = None,
+    physical: ContactPair | None = None, value: float | None = None,
 ) -> EngineAudit:
     """Audit one engine preset for target restitution ``e``.
 

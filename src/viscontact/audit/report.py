@@ -12,7 +12,8 @@ import math
 import os
 from collections.abc import Iterable, Sequence
 
-from .engines import ENGINES, EngineAudit, Physical, audit_engine, get_preset
+from ..dimensional import ContactPair
+from .engines import ENGINES, EngineAudit, audit_engine, get_preset
 from .formulas import FORMULAS, FormulaAudit, audit_formula
 
 __all__ = [
@@ -27,7 +28,7 @@ DEFAULT_GRID: tuple[float, ...] = tuple(round(0.05 * i, 2) for i in range(1, 20)
 SUMMARY_E: tuple[float, ...] = (0.3, 0.5, 0.9)
 #: collision used for the physical-unit presets: the indoor lacrosse ball of SPEC section 7
 #: dropped on a rigid plate (m* = m, R* = R), v_i = 1.716 m/s
-DEFAULT_PHYSICAL = Physical(m_eff=0.1547, r_eff=0.03175, k_hertz=1.688e6, v=1.716)
+DEFAULT_PHYSICAL = ContactPair(m_eff=0.1547, r_eff=0.03175, k_hertz=1.688e6, v=1.716)
 
 ENDS = ("force", "overlap")
 
@@ -61,7 +62,7 @@ def engine_settings() -> list[tuple[str, str, bool | None]]:
 
 
 def engine_rows(grid: Iterable[float] = DEFAULT_GRID,
-                physical: Physical = DEFAULT_PHYSICAL) -> list[EngineAudit]:
+                physical: ContactPair = DEFAULT_PHYSICAL) -> list[EngineAudit]:
     """Every preset and clamp state at every e of ``grid``."""
     out = []
     for eng, opt, clamp in engine_settings():
@@ -119,7 +120,7 @@ def _engine_label(eng: str, opt: str, clamp: bool | None) -> str:
 
 
 def summary_markdown(e_values: Sequence[float] = SUMMARY_E,
-                     physical: Physical = DEFAULT_PHYSICAL) -> str:
+                     physical: ContactPair = DEFAULT_PHYSICAL) -> str:
     """Delivered e of every formula (both end criteria) and preset at ``e_values``."""
     out = ["### Published formulas: delivered e\n",
            "Each cell: e delivered by the formula's alpha (exact solve) under the zero-force / "
@@ -219,7 +220,7 @@ def plot_engines(rows: Sequence[EngineAudit], path: str) -> str:
 
 
 def write_all(outdir: str, grid: Iterable[float] = DEFAULT_GRID,
-              physical: Physical = DEFAULT_PHYSICAL, plots: bool = True) -> list[str]:
+              physical: ContactPair = DEFAULT_PHYSICAL, plots: bool = True) -> list[str]:
     """Write formulas.{csv,md,png}, engines.{csv,md,png} and summary.md into ``outdir``."""
     os.makedirs(outdir, exist_ok=True)
     grid = tuple(grid)

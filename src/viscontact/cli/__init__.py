@@ -11,11 +11,11 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from . import audit, core, fit, physical
+from . import audit, core, dem, fit, physical
 
 __all__ = ["main", "COMMANDS", "UserError"]
 
-COMMANDS = (core, physical, fit, audit)
+COMMANDS = (core, physical, fit, audit, dem)
 
 
 class UserError(Exception):

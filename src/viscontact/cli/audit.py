@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..audit.engines import ENGINES, Physical, audit_engine, get_preset
+from ..audit.engines import ENGINES, audit_engine, get_preset
+from ..dimensional import ContactPair
 from ..audit.formulas import FORMULAS, audit_formula, get_formula
 from ..solvers import END_CRITERIA
 from .common import print_json
@@ -51,15 +52,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(handler=_audit)
 
 
-def _physical(args: argparse.Namespace) -> Physical | None:
+def _physical(args: argparse.Namespace) -> ContactPair | None:
     given = [args.m_eff, args.r_eff, args.e_eff, args.k_hertz, args.v]
     if all(v is None for v in given):
         return None
     missing = [n for n, v in (("--m-eff", args.m_eff), ("--r-eff", args.r_eff), ("--v", args.v)) if v is None]
     if missing:
         raise ValueError(f"physical quantities incomplete: missing {', '.join(missing)}")
-    return Physical.build(m_eff=args.m_eff, r_eff=args.r_eff, v=args.v, e_eff=args.e_eff,
-                          k_hertz=args.k_hertz)
+    return ContactPair.from_effective(m_eff=args.m_eff, r_eff=args.r_eff, v=args.v, e_eff=args.e_eff,
+                                      k_hertz=args.k_hertz)
 
 
 def _audit(args: argparse.Namespace) -> int:

@@ -1,0 +1,183 @@
+"""The LAMMPS plugin's cost per particle-step for every law against native ``pair_style granular``.
+
+    python3 benchmarks/bench_dem.py [--quick] [--ranks 1 2] [--packings loose dense] [--steps N]
+                                    [--repeat R] [--laws LH Ts ...]
+
+Two packings of about 10^4 equal spheres (d = 1 cm, rho = 2500 kg/m^3, E = 10 MPa, nu = 0.3,
+Mindlin friction mu = 0.5), fully periodic, no gravity, no walls (the pair style is what is
+measured):
+
+* ``loose``: a granular gas, a simple cubic lattice of spacing 1.15 d (volume fraction 0.34)
+  with Gaussian random velocities of 1 m/s rms; measured after a warm-up of 3 ms (the gaps
+  close within about 1 ms, so collisions are under way);
+* ``dense``: a pack, an fcc lattice whose neighbours overlap by 0.1 % of d (12 contacts per
+  sphere, volume fraction 0.74), random velocities of 1 cm/s.
+
+Every law (calibrated to e = 0.8 at vref = 1 m/s, zero-force end; Jian beta = 0.5, power
+p = 0.75) runs through ``pair_style viscontact``, and in the same LAMMPS process, on the same
+packing, the nearest native damping of ``pair_style granular`` (``hertz/material``, ``tangential
+mindlin NULL 0.0 0.5``, ``limit_damping``): ``velocity`` for LH, ``tsuji`` for Ts and
+``viscoelastic`` for the others (KK exactly; Li, Hunt, Jian and power have no native
+counterpart), each with the input the audit (:mod:`viscontact.audit.engines`) says gives
+e = 0.8 at 1 m/s for a pair of these spheres.  Each case is run ``--repeat`` times (best kept:
+on a shared machine the shortest is the least disturbed) after a warm-up; the figure is
+LAMMPS's loop time / (steps x particles) in microseconds, and the ``Pair`` share of it.
+
+Targets: plugin / native <= 1 for every law; t(1 rank) / t(2 ranks) >= 1.7.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import re
+import sys
+import tempfile
+from pathlib import Path
+
+E, NU, RHO, D, MU = 1.0e7, 0.3, 2500.0, 0.01, 0.5
+E_TARGET, VREF, BETA, P_POWER = 0.8, 1.0, 0.5, 0.75
+LAWS = ("LH", "Ts", "KK", "Li", "Hunt", "Jian", "power")
+NATIVE_OF = {"LH": "velocity", "Ts": "tsuji"}  # the rest: viscoelastic
+KB = 1.380649e-23  # LAMMPS's Boltzmann constant in units si [J/K]
+
+_LOOP = re.compile(r"^Loop time of (\S+) on (\d+) procs for (\d+) steps with (\d+) atoms")
+_PAIR = re.compile(r"^Pair\s*\|\s*(\S+)\s*\|\s*(\S+)\s*\|")
+
+
+def packing_lines(kind: str, n_side: int) -> list[str]:
+    """Deterministic packing of ``kind`` (the same on any number of ranks: loop geom)."""
+    mass = RHO * math.pi * D**3 / 6.0
+    if kind == "loose":
+        lattice, v_rms = f"lattice sc {1.15 * D!r}", 1.0
+    else:
+        lattice, v_rms = f"lattice fcc {math.sqrt(2.0) * D * (1.0 - 1e-3)!r}", 0.01
+    temp = mass * v_rms**2 / (3.0 * KB)  # velocity create takes a temperature
+    return [
+        "units si", "atom_style sphere", "atom_modify map array", "boundary p p p",
+        "comm_modify vel yes", lattice, f"region box block 0 {n_side} 0 {n_side} 0 {n_side}",
+        "create_box 1 box", "create_atoms 1 box", f"set type 1 diameter {D!r}",
+        f"set type 1 density {RHO!r}",
+        f"velocity all create {temp!r} 4928459 dist gaussian loop geom mom yes rot no",
+        f"neighbor {0.1 * D!r} bin", "neigh_modify delay 0 every 1 check yes",
+        "fix move all nve/sphere", "timestep 1e-5", "thermo 0",
+    ]
+
+
+def cases() -> list[tuple[str, str, str]]:
+    """(label, law, pair lines) for every plugin law and every native damping used."""
+    from viscontact import dem
+    from viscontact.audit.engines import get_preset
+    from viscontact.dimensional import contact_pair
+
+    mass = RHO * math.pi * D**3 / 6.0
+    pair = contact_pair(mass, radius=D / 2, modulus=E, poisson=NU, mass2=mass, radius2=D / 2,
+                        modulus2=E, poisson2=NU).at(VREF)
+    out = []
+    for law in LAWS:
+        dl = dem.contact_law(law, e=E_TARGET, vref=VREF, beta=BETA if law == "Jian" else None,
+                             p=P_POWER if law == "power" else None)
+        lines = dem.coeff_lines(dl, E=E, nu=NU, friction=MU, plugin="-")
+        out.append((f"plugin {law}", law, [lines.pair_style, lines.pair_coeff]))
+    for option, law in (("velocity", "LH"), ("tsuji", "Ts"), ("viscoelastic", "KK")):
+        alpha = float(dem.contact_law(law, e=E_TARGET, vref=VREF).alpha)
+        value = get_preset("lammps", option).from_alpha(alpha, pair)
+        out.append((f"native {option}", law, [
+            "pair_style granular",
+            f"pair_coeff * * hertz/material {E!r} {value!r} {NU!r} damping {option} "
+            f"tangential mindlin NULL 0.0 {MU!r} limit_damping"]))
+    return out
+
+
+def write_input(path: Path, kind: str, n_side: int, warm: int, steps: int, repeat: int,
+                todo: list[tuple[str, str, list[str]]]) -> None:
+    body = []
+    for label, _law, pair_lines in todo:
+        body += [f"# case: {label}", "clear", *packing_lines(kind, n_side), *pair_lines,
+                 f"run {warm}"] + [f"run {steps}"] * repeat
+    path.write_text("\n".join(body) + "\n")
+
+
+def parse(log: Path, todo, repeat: int) -> dict[str, tuple[float, float, int]]:
+    """label -> (best us per particle-step, its Pair share, atoms)."""
+    loops, pairs = [], []
+    for line in log.read_text().splitlines():
+        m = _LOOP.match(line)
+        if m:
+            loops.append((float(m.group(1)), int(m.group(3)), int(m.group(4))))
+        m = _PAIR.match(line)
+        if m:
+            pairs.append(float(m.group(2)))  # the average over ranks
+    per = 1 + repeat
+    if len(loops) != per * len(todo) or len(pairs) != len(loops):
+        raise RuntimeError(f"{log}: expected {per * len(todo)} runs, found {len(loops)}")
+    out = {}
+    for k, (label, _law, _lines) in enumerate(todo):
+        runs = [(loops[k * per + j], pairs[k * per + j]) for j in range(1, per)]
+        (t, steps, atoms), pair_t = min(runs, key=lambda r: r[0][0])
+        out[label] = (1e6 * t / (steps * atoms), pair_t / t if t > 0 else math.nan, atoms)
+    return out
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true",
+                    help="about 2000 particles and fewer steps (a smoke run, not the figures)")
+    ap.add_argument("--ranks", type=int, nargs="+", default=[1, 2], help="MPI rank counts (default 1 2)")
+    ap.add_argument("--packings", nargs="+", choices=("loose", "dense"), default=["loose", "dense"])
+    ap.add_argument("--laws", nargs="+", default=list(LAWS), help="plugin laws (default all)")
+    ap.add_argument("--steps", type=int, default=None, help="measured steps per run (default 300; quick 100)")
+    ap.add_argument("--repeat", type=int, default=2, help="measured runs per case, best kept (default 2)")
+    args = ap.parse_args()
+    from viscontact import dem
+
+    steps = args.steps or (100 if args.quick else 300)
+    warm = 150 if args.quick else 300
+    plugin = dem.plugin_path(progress=lambda m: print(m, file=sys.stderr))
+    todo = [c for c in cases() if c[0].startswith("native") or c[1] in args.laws]
+    print(f"plugin {plugin}\nload average {os.getloadavg()[0]:.2f} (timings on a shared machine "
+          "scale with the cores actually free)")
+    results: dict[tuple[str, int], dict[str, tuple[float, float, int]]] = {}
+    with tempfile.TemporaryDirectory(prefix="viscontact-bench-dem-") as tmp:
+        for kind in args.packings:
+            n_side = (8 if kind == "loose" else 5) if args.quick else (22 if kind == "loose" else 14)
+            for ranks in args.ranks:
+                inp = Path(tmp) / f"in.{kind}.{ranks}"
+                write_input(inp, kind, n_side, warm, steps, args.repeat, todo)
+                res = dem.run_input(inp, np=ranks, progress=sys.stderr.isatty(), quiet=True)
+                results[(kind, ranks)] = parse(res.log_path, todo, args.repeat)
+                print(f"  {kind} on {ranks} rank(s): {res.seconds:.1f} s", file=sys.stderr)
+    report(results, args)
+    return 0
+
+
+def report(results, args) -> None:
+    native_of = {law: NATIVE_OF.get(law, "viscoelastic") for law in LAWS}
+    for kind in args.packings:
+        atoms = next(iter(results[(kind, args.ranks[0])].values()))[2]
+        print(f"\n{kind}: {atoms} particles; us per particle-step (Pair share) and plugin/native")
+        head = f"{'law':<6} {'native damping':<14}"
+        for r in args.ranks:
+            head += f" | {r} rank: {'plugin':>13} {'native':>13} {'ratio':>5}"
+        if len(args.ranks) > 1:
+            head += f" | speed-up {args.ranks[0]}->{args.ranks[-1]}: plugin native"
+        print(head)
+        for law in args.laws:
+            nat = f"native {native_of[law]}"
+            row = f"{law:<6} {native_of[law]:<14}"
+            for r in args.ranks:
+                pu, ps, _ = results[(kind, r)][f"plugin {law}"]
+                nu, ns, _ = results[(kind, r)][nat]
+                row += f" | {'':>7} {pu:7.3f} ({ps:4.0%}) {nu:7.3f} ({ns:4.0%}) {pu / nu:5.2f}"
+            if len(args.ranks) > 1:
+                lo, hi = results[(kind, args.ranks[0])], results[(kind, args.ranks[-1])]
+                row += (f" | {'':>20} {lo[f'plugin {law}'][0] / hi[f'plugin {law}'][0]:5.2f}  "
+                        f"{lo[nat][0] / hi[nat][0]:5.2f}")
+            print(row)
+    print("\ntargets: plugin/native <= 1 for every law; speed-up 1 -> 2 ranks >= 1.7 "
+          "(needs two free cores)")
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,299 @@
+/* Internal fix VISCONTACT_HISTORY (see fix_viscontact_history.h).
+   This file is part of viscontact.  Compiled into a LAMMPS plugin it links GPL-2 LAMMPS. */
+
+#include "fix_viscontact_history.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "error.h"
+#include "force.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "pair_viscontact.h"
+#include "viscontact_contact.h"
+
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+FixViscontactHistory::FixViscontactHistory(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), pair(nullptr), drop_history(0), dnum(viscontact::HISTORY_SIZE),
+    list_valid(false), partners_current(true), maxpartner(0)
+{
+  if (narg != 3) error->all(FLERR, "fix VISCONTACT_HISTORY is internal to pair viscontact");
+  restart_peratom = 1;
+  restart_global = 1;
+  create_attribute = 1;
+  maxexchange_dynamic = 1;
+  maxexchange = 1;
+  newton_pair = force->newton_pair;
+  grow_arrays(atom->nmax);
+  atom->add_callback(Atom::GROW);
+  atom->add_callback(Atom::RESTART);
+  for (int i = 0; i < atom->nlocal; i++) store[i].clear();
+}
+
+FixViscontactHistory::~FixViscontactHistory()
+{
+  atom->delete_callback(id, Atom::GROW);
+  atom->delete_callback(id, Atom::RESTART);
+}
+
+int FixViscontactHistory::setmask()
+{
+  return PRE_EXCHANGE | POST_NEIGHBOR | POST_RUN | MIN_PRE_EXCHANGE | MIN_POST_NEIGHBOR;
+}
+
+void FixViscontactHistory::init()
+{
+  if (atom->tag_enable == 0) error->all(FLERR, "pair viscontact requires atom IDs");
+  if (force->newton_pair != newton_pair)
+    error->all(FLERR, "pair viscontact: the newton pair setting changed after the first run");
+  // atoms that another fix moves in its pre_exchange must carry current partner lists
+  for (auto &ifix : modify->get_fix_list()) {
+    if (ifix == this) break;
+    if (ifix->pre_exchange_migrate)
+      error->all(FLERR, "pair viscontact: its history fix must come before fix {} ({}), which "
+                 "migrates atoms; define that fix after the first run", ifix->id, ifix->style);
+  }
+}
+
+/* Append one partner (tag, values * sign for the tangential part) to atom i's list. */
+void FixViscontactHistory::add_partner(int i, double tag, const double *v, double sign)
+{
+  auto &s = store[i];
+  s.push_back(tag);
+  s.push_back(sign * v[0]);
+  s.push_back(sign * v[1]);
+  s.push_back(sign * v[2]);
+  for (int k = 3; k < dnum; k++) s.push_back(v[k]);    // start time: same for both
+}
+
+void FixViscontactHistory::update_maxexchange()
+{
+  maxpartner = 0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    const int np = (int) (store[i].size() / (dnum + 1));
+    if (np > maxpartner) maxpartner = np;
+  }
+  maxexchange = 1 + (dnum + 1) * maxpartner;
+}
+
+/* Per-neighbour arrays -> per-atom partner lists (both atoms of every touching contact).
+   Needs the per-neighbour arrays to match the current atom order (list_valid). */
+void FixViscontactHistory::store_partners()
+{
+  if (!list_valid) return;
+  NeighList *list = pair->list;
+  const int nall = atom->nlocal + atom->nghost;
+  const int nclear = newton_pair ? nall : atom->nlocal;
+  for (int i = 0; i < nclear; i++) store[i].clear();
+  tagint *tag = atom->tag;
+  const int nlocal = atom->nlocal;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    const int *jlist = list->firstneigh[i];
+    const int jnum = list->numneigh[i];
+    const char *fl = flags_of(i);
+    const double *val = values_of(i);
+    for (int jj = 0; jj < jnum; jj++) {
+      if (!fl[jj]) continue;
+      const int j = jlist[jj] & NEIGHMASK;
+      add_partner(i, (double) tag[j], &val[(size_t) dnum * jj], 1.0);
+      if (newton_pair || j < nlocal) add_partner(j, (double) tag[i], &val[(size_t) dnum * jj], -1.0);
+    }
+  }
+  // ghost copies go to their owners (newton off: the owner's own list has the pair)
+  if (newton_pair) comm->reverse_comm_variable(this);
+  for (int i = nlocal; i < nclear; i++) store[i].clear();
+  update_maxexchange();
+  partners_current = true;
+}
+
+/* During a run, before atoms migrate: afterwards the per-neighbour arrays are stale until the
+   next build refills them (post_neighbor). */
+void FixViscontactHistory::pre_exchange()
+{
+  store_partners();
+  list_valid = false;
+}
+
+/* End of every run: partner lists current (for write_restart, or commands that add or delete
+   atoms); the per-neighbour arrays stay in use for a following `run ... pre no`. */
+void FixViscontactHistory::post_run()
+{
+  store_partners();
+}
+
+/* Every run's start: the run will change the per-neighbour history. */
+void FixViscontactHistory::setup(int /*vflag*/)
+{
+  partners_current = false;
+}
+
+/* Global restart hook, called when a restart file is written: during a run the partner lists
+   are brought up to date; after a run they already are (and the write_restart command has
+   moved atoms since, so the per-neighbour arrays must not be read). */
+void FixViscontactHistory::write_restart(FILE *fp)
+{
+  if (!partners_current) store_partners();
+  if (comm->me == 0) {
+    int size = 0;
+    fwrite(&size, sizeof(int), 1, fp);
+  }
+}
+
+void FixViscontactHistory::setup_post_neighbor()
+{
+  post_neighbor();
+}
+
+/* Per-atom partner lists -> per-neighbour arrays of the list just built. */
+void FixViscontactHistory::post_neighbor()
+{
+  NeighList *list = pair->list;
+  const int nall = atom->nlocal + atom->nghost;
+  if ((int) offset.size() < nall) offset.resize(nall);
+  long total = 0;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    offset[i] = total;
+    total += list->numneigh[i];
+  }
+  pairflag.assign(total, 0);
+  pairval.assign((size_t) total * dnum, 0.0);
+  tagint *tag = atom->tag;
+  if (!drop_history) {
+    for (int ii = 0; ii < list->inum; ii++) {
+      const int i = list->ilist[ii];
+      const auto &s = store[i];
+      const size_t np = s.size() / (dnum + 1);
+      if (np == 0) continue;
+      const int *jlist = list->firstneigh[i];
+      char *fl = flags_of(i);
+      double *val = values_of(i);
+      for (int jj = 0; jj < list->numneigh[i]; jj++) {
+        const double jtag = (double) tag[jlist[jj] & NEIGHMASK];
+        for (size_t m = 0; m < np; m++) {
+          if (s[m * (dnum + 1)] == jtag) {
+            fl[jj] = 1;
+            std::memcpy(&val[(size_t) dnum * jj], &s[m * (dnum + 1) + 1], sizeof(double) * dnum);
+            break;
+          }
+        }
+      }
+    }
+  }
+  list_valid = true;
+  partners_current = false;
+}
+
+void FixViscontactHistory::grow_arrays(int nmax)
+{
+  if ((int) store.size() < nmax) store.resize(nmax);
+}
+
+void FixViscontactHistory::copy_arrays(int i, int j, int /*delflag*/)
+{
+  store[j] = store[i];
+}
+
+void FixViscontactHistory::set_arrays(int i)
+{
+  store[i].clear();
+}
+
+int FixViscontactHistory::pack_exchange(int i, double *buf)
+{
+  const auto &s = store[i];
+  buf[0] = (double) (s.size() / (dnum + 1));
+  std::memcpy(&buf[1], s.data(), sizeof(double) * s.size());
+  return 1 + (int) s.size();
+}
+
+int FixViscontactHistory::unpack_exchange(int nlocal, double *buf)
+{
+  const int np = (int) buf[0];
+  const int n = np * (dnum + 1);
+  store[nlocal].assign(buf + 1, buf + 1 + n);
+  if (np > maxpartner) {
+    maxpartner = np;
+    maxexchange = 1 + (dnum + 1) * maxpartner;
+  }
+  return 1 + n;
+}
+
+int FixViscontactHistory::pack_restart(int i, double *buf)
+{
+  // buf[0] = my size (other fixes skip over it), buf[1] = number of partners
+  const auto &s = store[i];
+  buf[1] = (double) (s.size() / (dnum + 1));
+  std::memcpy(&buf[2], s.data(), sizeof(double) * s.size());
+  const int m = 2 + (int) s.size();
+  buf[0] = m;
+  return m;
+}
+
+void FixViscontactHistory::unpack_restart(int nlocal, int nth)
+{
+  double **extra = atom->extra;
+  int m = 0;
+  for (int k = 0; k < nth; k++) m += static_cast<int>(extra[nlocal][m]);
+  m++;
+  const int np = static_cast<int>(extra[nlocal][m++]);
+  store[nlocal].assign(&extra[nlocal][m], &extra[nlocal][m] + np * (dnum + 1));
+  if (np > maxpartner) maxpartner = np;
+}
+
+int FixViscontactHistory::size_restart(int nlocal)
+{
+  return 2 + (int) store[nlocal].size();
+}
+
+int FixViscontactHistory::maxsize_restart()
+{
+  update_maxexchange();
+  int all = 0;
+  MPI_Allreduce(&maxpartner, &all, 1, MPI_INT, MPI_MAX, world);
+  return 2 + (dnum + 1) * all;
+}
+
+int FixViscontactHistory::pack_reverse_comm_size(int n, int first)
+{
+  int m = 0;
+  for (int i = first; i < first + n; i++) m += 1 + (int) store[i].size();
+  return m;
+}
+
+int FixViscontactHistory::pack_reverse_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  for (int i = first; i < first + n; i++) {
+    const auto &s = store[i];
+    buf[m++] = (double) (s.size() / (dnum + 1));
+    std::memcpy(&buf[m], s.data(), sizeof(double) * s.size());
+    m += (int) s.size();
+  }
+  return m;
+}
+
+void FixViscontactHistory::unpack_reverse_comm(int n, int *list, double *buf)
+{
+  int m = 0;
+  for (int k = 0; k < n; k++) {
+    const int j = list[k];
+    const int cnt = (int) buf[m++] * (dnum + 1);
+    store[j].insert(store[j].end(), &buf[m], &buf[m] + cnt);
+    m += cnt;
+  }
+}
+
+double FixViscontactHistory::memory_usage()
+{
+  double bytes = (double) store.size() * sizeof(std::vector<double>);
+  for (const auto &s : store) bytes += (double) s.capacity() * sizeof(double);
+  bytes += (double) pairval.capacity() * sizeof(double) + (double) pairflag.capacity() +
+      (double) offset.capacity() * sizeof(long);
+  return bytes;
+}

@@ -1,0 +1,411 @@
+/* pair_style viscontact (see pair_viscontact.h; physics in viscontact_contact.h, SPEC section 9).
+   This file is part of viscontact.  Compiled into a LAMMPS plugin it links GPL-2 LAMMPS. */
+
+#include "pair_viscontact.h"
+#include "viscontact_keywords.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "error.h"
+#include "fix_viscontact_history.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "update.h"
+#include "utils.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+namespace vc = viscontact;
+
+PairViscontact::PairViscontact(LAMMPS *lmp) :
+    Pair(lmp), params(nullptr), Ein(nullptr), nuin(nullptr), drop_history(0), need_history(0),
+    fix_history(nullptr)
+{
+  single_enable = 0;
+  restartinfo = 1;
+  finitecutflag = 1;
+  beyond_contact = 0;
+  no_virial_fdotr_compute = 1;
+}
+
+PairViscontact::~PairViscontact()
+{
+  if (copymode) return;
+  if (allocated) {
+    memory->destroy(setflag);
+    memory->destroy(cutsq);
+    memory->destroy(Ein);
+    memory->destroy(nuin);
+    for (int i = 0; i <= atom->ntypes; i++) delete[] params[i];
+    delete[] params;
+  }
+  if (fix_history && modify->get_fix_by_id(fix_history->id)) modify->delete_fix(fix_history->id);
+}
+
+void PairViscontact::allocate()
+{
+  allocated = 1;
+  const int n = atom->ntypes;
+  memory->create(setflag, n + 1, n + 1, "pair:setflag");
+  memory->create(cutsq, n + 1, n + 1, "pair:cutsq");
+  memory->create(Ein, n + 1, n + 1, "pair:Ein");
+  memory->create(nuin, n + 1, n + 1, "pair:nuin");
+  params = new vc::LawParams *[n + 1];
+  for (int i = 0; i <= n; i++) {
+    params[i] = new vc::LawParams[n + 1];
+    for (int j = 0; j <= n; j++) {
+      setflag[i][j] = 0;
+      Ein[i][j] = nuin[i][j] = 0.0;
+    }
+  }
+  maxrad.assign(n + 1, 0.0);
+}
+
+void PairViscontact::fail(const std::string &msg)
+{
+  error->all(FLERR, msg);
+  std::abort();    // not reached: error->all does not return
+}
+
+void PairViscontact::settings(int narg, char **arg)
+{
+  drop_history = 0;
+  for (int i = 0; i < narg; i++) {
+    if (strcmp(arg[i], "drop_history") == 0)
+      drop_history = 1;
+    else
+      fail(fmt::format("pair viscontact: unknown pair_style option '{}' (allowed: none, or "
+                       "drop_history, a negative control for tests)", arg[i]));
+  }
+}
+
+/* pair_coeff I J hertz/material E NU <law keywords>; the law keywords (damping LAW [p P] FORM
+   [end force|overlap] tangential TANG) are parsed by viscontact_keywords.h, shared with fix
+   viscontact/wall.  Every mistake: one error line naming the keyword and what is allowed. */
+void PairViscontact::parse_coeff(int narg, char **arg, vc::LawParams &lp, double &E, double &nu)
+{
+  std::vector<std::string> args(arg, arg + narg);
+  if (narg < 3 || args[2] != "hertz/material")
+    fail(fmt::format("pair viscontact: expected 'hertz/material E NU' after the two types, got "
+                     "'{}'", narg < 3 ? "" : arg[2]));
+  if (narg < 5) fail("pair viscontact: hertz/material needs two values, E and NU");
+  std::string err = vc::parse_number("E (Pa)", args[3], true, E);
+  if (!err.empty()) fail("pair viscontact: " + err);
+  char *end = nullptr;
+  nu = std::strtod(arg[4], &end);
+  if (end == arg[4] || *end != '\0' || !(nu > -1.0 && nu <= 0.5))
+    fail(fmt::format("pair viscontact: nu must be in (-1, 0.5], got {}", arg[4]));
+
+  vc::LawKeywords kw;
+  size_t i = 5;
+  while (i < args.size()) {
+    if (!kw.take(args, i, err))
+      fail(fmt::format("pair viscontact: unknown keyword '{}' (allowed after hertz/material E NU: "
+                       "damping LAW [p P] alpha A vref V [beta B] | c0 C [tau S], end force|overlap, "
+                       "tangential none|mindlin MU)", args[i]));
+    if (!err.empty()) fail("pair viscontact: " + err);
+  }
+  err = kw.finish();
+  if (!err.empty()) fail("pair viscontact: " + err);
+  lp = kw.lp;
+  lp.Estar = vc::mix_Estar(E, nu, E, nu);
+  lp.Gstar = vc::mix_Gstar(E, nu, E, nu);
+}
+
+void PairViscontact::coeff(int narg, char **arg)
+{
+  if (narg < 2) fail("pair viscontact: pair_coeff needs two atom types");
+  if (!allocated) allocate();
+  int ilo, ihi, jlo, jhi;
+  utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
+  utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
+  vc::LawParams lp;
+  double E = 0.0, nu = 0.0;
+  parse_coeff(narg, arg, lp, E, nu);
+  int count = 0;
+  for (int i = ilo; i <= ihi; i++) {
+    for (int j = MAX(jlo, i); j <= jhi; j++) {
+      params[i][j] = params[j][i] = lp;
+      Ein[i][j] = Ein[j][i] = E;
+      nuin[i][j] = nuin[j][i] = nu;
+      setflag[i][j] = 1;
+      count++;
+    }
+  }
+  if (count == 0) fail("pair viscontact: pair_coeff selects no type pair");
+}
+
+bool PairViscontact::type_material(int itype, double &E, double &nu) const
+{
+  if (!allocated || itype < 1 || itype > atom->ntypes || !setflag[itype][itype]) return false;
+  E = Ein[itype][itype];
+  nu = nuin[itype][itype];
+  return true;
+}
+
+void PairViscontact::init_style()
+{
+  if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
+    fail("pair viscontact requires atom_style sphere (per-atom radius, rmass, omega, torque)");
+  if (comm->ghost_velocity == 0) fail("pair viscontact requires 'comm_modify vel yes'");
+
+  neighbor->add_request(this, NeighConst::REQ_SIZE);
+
+  // history is needed for friction and Jian's clock
+  need_history = 0;
+  const int n = atom->ntypes;
+  for (int i = 1; i <= n; i++)
+    for (int j = i; j <= n; j++)
+      if (setflag[i][j] && (params[i][j].friction || params[i][j].law == vc::Law::Jian))
+        need_history = 1;
+  if (need_history && fix_history == nullptr) {
+    // one fixed ID, so that read_restart re-attaches the per-atom history whatever the
+    // instance count of the run that wrote it
+    const std::string id = "VISCONTACT_HISTORY";
+    Fix *f = modify->get_fix_by_id(id);
+    if (!f) f = modify->add_fix(id + " all VISCONTACT_HISTORY");
+    fix_history = dynamic_cast<FixViscontactHistory *>(f);
+    if (!fix_history) fail(fmt::format("pair viscontact: fix ID {} is taken by another fix", id));
+    if (fix_history->pair && fix_history->pair != this)
+      fail("pair viscontact can be used once per simulation (not twice under pair hybrid)");
+  }
+  if (fix_history) {
+    fix_history->pair = this;
+    fix_history->drop_history = drop_history;
+  }
+
+  // largest radius per type: cutoff r_i + r_j for the neighbour lists and ghost atoms
+  std::vector<double> local(n + 1, 0.0);
+  const double *radius = atom->radius;
+  const int *type = atom->type;
+  for (int i = 0; i < atom->nlocal; i++) local[type[i]] = MAX(local[type[i]], radius[i]);
+  maxrad.assign(n + 1, 0.0);
+  MPI_Allreduce(local.data(), maxrad.data(), n + 1, MPI_DOUBLE, MPI_MAX, world);
+}
+
+double PairViscontact::init_one(int i, int j)
+{
+  if (setflag[i][j] == 0) {
+    const vc::LawParams &a = params[i][i], &b = params[j][j];
+    if (a.law != b.law || a.p != b.p || a.by_alpha != b.by_alpha || a.clamp != b.clamp ||
+        a.friction != b.friction)
+      fail(fmt::format("pair viscontact: types {} and {} use different laws; give pair_coeff {} {} "
+                       "explicitly", i, j, i, j));
+    vc::LawParams m = a;
+    auto geo = [](double x, double y) { return std::sqrt(x * y); };
+    m.alpha = geo(a.alpha, b.alpha);
+    m.vref = geo(a.vref, b.vref);
+    m.beta = geo(a.beta, b.beta);
+    m.c0 = geo(a.c0, b.c0);
+    m.tau = geo(a.tau, b.tau);
+    m.mu = geo(a.mu, b.mu);
+    m.Estar = vc::mix_Estar(Ein[i][i], nuin[i][i], Ein[j][j], nuin[j][j]);
+    m.Gstar = vc::mix_Gstar(Ein[i][i], nuin[i][i], Ein[j][j], nuin[j][j]);
+    params[i][j] = m;
+  }
+  params[j][i] = params[i][j];
+  return maxrad[i] + maxrad[j];
+}
+
+void PairViscontact::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+
+  double **x = atom->x, **v = atom->v, **f = atom->f;
+  double **omega = atom->omega, **torque = atom->torque;
+  const double *radius = atom->radius, *rmass = atom->rmass;
+  const int *type = atom->type;
+  const int nlocal = atom->nlocal;
+  const int newton_pair = force->newton_pair;
+  const double dt = update->dt;
+  const double t_now = update->atime + (double) (update->ntimestep - update->atimestep) * dt;
+  // forces of a run's setup must not advance the history (as pair granular)
+  const bool history_update = !update->setupflag;
+  FixViscontactHistory *fh = (fix_history && fix_history->ready()) ? fix_history : nullptr;
+  if (need_history && !fh) fail("pair viscontact: contact history is not set up (internal error)");
+
+  // per-contact coefficients depend on (types, m*, R*): reuse the last ones when unchanged
+  int c_it = -1, c_jt = -1;
+  double c_m = -1.0, c_r = -1.0;
+  vc::ContactCoeffs cc{0.0, 0.0, 0.0};
+
+  const int inum = list->inum;
+  const int *ilist = list->ilist, *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    const int itype = type[i];
+    const double radi = radius[i];
+    const int *jlist = firstneigh[i];
+    const int jnum = numneigh[i];
+    char *fl = fh ? fh->flags_of(i) : nullptr;
+    double *hv = fh ? fh->values_of(i) : nullptr;
+
+    for (int jj = 0; jj < jnum; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const int jtype = type[j];
+      const double radj = radius[j];
+      const double dx[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+      const double rsq = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
+      const double radsum = radi + radj;
+      double *h = hv ? &hv[vc::HISTORY_SIZE * jj] : nullptr;
+      if (rsq >= radsum * radsum) {
+        // apart: the contact (if any) has ended; a new one starts afresh
+        if (fl && history_update && fl[jj]) {
+          fl[jj] = 0;
+          for (int k = 0; k < vc::HISTORY_SIZE; k++) h[k] = 0.0;
+        }
+        continue;
+      }
+      const vc::LawParams &lp = params[itype][jtype];
+      const double r = std::sqrt(rsq);
+      const double rinv = 1.0 / r;
+      const double delta = radsum - r;
+      const double n[3] = {dx[0] * rinv, dx[1] * rinv, dx[2] * rinv};
+      const double vr[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
+      const double wr[3] = {radi * omega[i][0] + radj * omega[j][0],
+                            radi * omega[i][1] + radj * omega[j][1],
+                            radi * omega[i][2] + radj * omega[j][2]};
+      double vtr[3];
+      const double ddelta = -vc::relative_tangential_velocity(vr, wr, n, vtr);
+      const double mi = rmass[i], mj = rmass[j];
+      const double meff = mi * mj / (mi + mj);
+      const double reff = radi * radj / radsum;
+      if (itype != c_it || jtype != c_jt || meff != c_m || reff != c_r) {
+        cc = vc::contact_coeffs(lp, meff, reff);
+        c_it = itype;
+        c_jt = jtype;
+        c_m = meff;
+        c_r = reff;
+      }
+
+      // history: this step's copy (written back only outside a run's setup)
+      double local[vc::HISTORY_SIZE] = {0.0, 0.0, 0.0, t_now};
+      double *hc = local;
+      if (h) {
+        if (fl[jj]) {
+          for (int k = 0; k < vc::HISTORY_SIZE; k++) local[k] = h[k];
+        } else {
+          local[3] = vc::contact_start_time(t_now, dt, delta, ddelta);
+        }
+        if (history_update) {
+          for (int k = 0; k < vc::HISTORY_SIZE; k++) h[k] = local[k];
+          fl[jj] = 1;
+          hc = h;
+        }
+      }
+      const double t_contact = t_now - hc[3];
+
+      const double fn = vc::clamp_normal(
+          vc::normal_force(delta, ddelta, t_contact, cc.k, cc.c0, cc.tau, lp.p), lp.clamp);
+      double ft[3] = {0.0, 0.0, 0.0};
+      if (lp.friction) {
+        const double kt = vc::mindlin_stiffness(lp.Gstar, reff, delta);
+        vc::mindlin_tangential(hc, n, vtr, dt, kt, lp.mu * std::fabs(fn), ft, history_update);
+      }
+
+      const double fx = fn * n[0] + ft[0];
+      const double fy = fn * n[1] + ft[1];
+      const double fz = fn * n[2] + ft[2];
+      double ti[3], tj[3];
+      vc::tangential_torque(n, ft, radi - 0.5 * delta, ti);
+      f[i][0] += fx;
+      f[i][1] += fy;
+      f[i][2] += fz;
+      torque[i][0] += ti[0];
+      torque[i][1] += ti[1];
+      torque[i][2] += ti[2];
+      if (newton_pair || j < nlocal) {
+        vc::tangential_torque(n, ft, radj - 0.5 * delta, tj);
+        f[j][0] -= fx;
+        f[j][1] -= fy;
+        f[j][2] -= fz;
+        torque[j][0] += tj[0];
+        torque[j][1] += tj[1];
+        torque[j][2] += tj[2];
+      }
+      if (evflag) ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fx, fy, fz, dx[0], dx[1], dx[2]);
+    }
+  }
+}
+
+/* ---- restart: the coefficients as given, per set type pair ---- */
+
+static constexpr int NRESTART = 13;
+
+void PairViscontact::write_restart(FILE *fp)
+{
+  write_restart_settings(fp);
+  for (int i = 1; i <= atom->ntypes; i++) {
+    for (int j = i; j <= atom->ntypes; j++) {
+      fwrite(&setflag[i][j], sizeof(int), 1, fp);
+      if (setflag[i][j]) {
+        const vc::LawParams &lp = params[i][j];
+        const double buf[NRESTART] = {(double) static_cast<int>(lp.law), lp.p,
+                                      lp.by_alpha ? 1.0 : 0.0, lp.alpha, lp.vref, lp.beta, lp.c0,
+                                      lp.tau, lp.clamp ? 1.0 : 0.0, lp.friction ? 1.0 : 0.0,
+                                      lp.mu, Ein[i][j], nuin[i][j]};
+        fwrite(buf, sizeof(double), NRESTART, fp);
+      }
+    }
+  }
+}
+
+void PairViscontact::read_restart(FILE *fp)
+{
+  read_restart_settings(fp);
+  allocate();
+  const int me = comm->me;
+  for (int i = 1; i <= atom->ntypes; i++) {
+    for (int j = i; j <= atom->ntypes; j++) {
+      if (me == 0) utils::sfread(FLERR, &setflag[i][j], sizeof(int), 1, fp, nullptr, error);
+      MPI_Bcast(&setflag[i][j], 1, MPI_INT, 0, world);
+      if (setflag[i][j]) {
+        double buf[NRESTART];
+        if (me == 0) utils::sfread(FLERR, buf, sizeof(double), NRESTART, fp, nullptr, error);
+        MPI_Bcast(buf, NRESTART, MPI_DOUBLE, 0, world);
+        vc::LawParams lp;
+        lp.law = static_cast<vc::Law>((int) buf[0]);
+        lp.p = buf[1];
+        lp.by_alpha = buf[2] != 0.0;
+        lp.alpha = buf[3];
+        lp.vref = buf[4];
+        lp.beta = buf[5];
+        lp.c0 = buf[6];
+        lp.tau = buf[7];
+        lp.clamp = buf[8] != 0.0;
+        lp.friction = buf[9] != 0.0;
+        lp.mu = buf[10];
+        Ein[i][j] = Ein[j][i] = buf[11];
+        nuin[i][j] = nuin[j][i] = buf[12];
+        lp.Estar = vc::mix_Estar(buf[11], buf[12], buf[11], buf[12]);
+        lp.Gstar = vc::mix_Gstar(buf[11], buf[12], buf[11], buf[12]);
+        params[i][j] = params[j][i] = lp;
+      }
+    }
+  }
+}
+
+void PairViscontact::write_restart_settings(FILE *fp)
+{
+  fwrite(&drop_history, sizeof(int), 1, fp);
+}
+
+void PairViscontact::read_restart_settings(FILE *fp)
+{
+  if (comm->me == 0) utils::sfread(FLERR, &drop_history, sizeof(int), 1, fp, nullptr, error);
+  MPI_Bcast(&drop_history, 1, MPI_INT, 0, world);
+}
+
+double PairViscontact::memory_usage()
+{
+  const double n = atom->ntypes + 1;
+  return n * n * (sizeof(vc::LawParams) + 2 * sizeof(double) + sizeof(int) + sizeof(double));
+}

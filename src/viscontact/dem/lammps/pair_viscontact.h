@@ -1,0 +1,60 @@
+/* pair_style viscontact: Hertz spring + the viscoelastic damping laws of viscontact
+   (LH Ts KK Li Hunt Jian power), clamp or attraction, Mindlin friction with per-contact history.
+
+     pair_style viscontact [drop_history]
+     pair_coeff I J hertz/material E NU damping LAW [p P] FORM [end force|overlap] tangential TANG
+       FORM = alpha A vref V [beta B]  |  c0 C [tau S]        (beta / tau: Jian only)
+       TANG = none | mindlin MU
+
+   The force law is viscontact_contact.h; SPEC section 9 has the physics.  `drop_history` is a
+   negative control for tests only: every contact forgets its history at each neighbour-list
+   rebuild (wrong physics on purpose).
+
+   This file is part of viscontact.  Compiled into a LAMMPS plugin it links GPL-2 LAMMPS. */
+#ifndef VISCONTACT_PAIR_VISCONTACT_H
+#define VISCONTACT_PAIR_VISCONTACT_H
+
+#include "pair.h"
+#include "viscontact_contact.h"
+
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class PairViscontact : public Pair {
+ public:
+  PairViscontact(class LAMMPS *);
+  ~PairViscontact() override;
+  void compute(int, int) override;
+  void settings(int, char **) override;
+  void coeff(int, char **) override;
+  void init_style() override;
+  double init_one(int, int) override;
+  void write_restart(FILE *) override;
+  void read_restart(FILE *) override;
+  void write_restart_settings(FILE *) override;
+  void read_restart_settings(FILE *) override;
+  double memory_usage() override;
+
+  /// The material of type itype as given by `pair_coeff I I` (for fix viscontact/wall):
+  /// false when no pair_coeff I I was given.
+  bool type_material(int itype, double &E, double &nu) const;
+  /// Parsed coefficients of a type pair (after init: mixed ones too).
+  const viscontact::LawParams &law_params(int itype, int jtype) const { return params[itype][jtype]; }
+
+ protected:
+  viscontact::LawParams **params;    // [ntypes+1][ntypes+1]
+  double **Ein, **nuin;              // E and nu as given for (i, j)
+  std::vector<double> maxrad;        // largest radius per type (cutoff)
+  int drop_history;
+  int need_history;
+  class FixViscontactHistory *fix_history;
+
+  void allocate();
+  void parse_coeff(int narg, char **arg, viscontact::LawParams &lp, double &E, double &nu);
+  [[noreturn]] void fail(const std::string &msg);
+};
+
+}    // namespace LAMMPS_NS
+
+#endif

