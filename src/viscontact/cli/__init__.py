@@ -11,11 +11,11 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from . import audit, core, dem, fit, physical
+from . import audit, core, dem, demstudy, fit, physical
 
 __all__ = ["main", "COMMANDS", "UserError"]
 
-COMMANDS = (core, physical, fit, audit, dem)
+COMMANDS = (core, physical, fit, audit, dem, demstudy)
 
 
 class UserError(Exception):

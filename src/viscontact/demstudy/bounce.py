@@ -97,9 +97,9 @@ def parse_crossings(path: Path, *, radius: float, dt: float, g: float, h_min: fl
                     ) -> DemBounces:
     """Contacts from the crossings dump of ``bounce.in`` (see the module docstring)."""
     frames = read_dump(path)
-    steps = np.array([s for s, _ in frames], dtype=np.int64)
-    z = np.array([c["z"][0] for _, c in frames])
-    vz = np.array([c["vz"][0] for _, c in frames])
+    steps = np.array([f.step for f in frames], dtype=np.int64)
+    z = np.array([f["z"][0] for f in frames])
+    vz = np.array([f["vz"][0] for f in frames])
     t_start, t_end, v_in, v_out = [], [], [], []
     for i in range(len(steps) - 1):
         if steps[i + 1] != steps[i] + 1:
@@ -146,6 +146,7 @@ class BounceCase:
     dem: DemBounces  # gravity during contact (the physical drop)
     isolated: DemBounces | None = None  # gravity only in flight (the check against exact)
     exact_at_dem: list[float] = field(default_factory=list)  # exact e at each DEM impact speed
+    exact_at_isolated: list[float] = field(default_factory=list)  # same for the check run
     dt: float = 0.0
 
     def gravity_ratio(self) -> np.ndarray:
@@ -182,13 +183,13 @@ def run_bounces(workdir: Path, *, balls: tuple[str, ...] = ("ILB", "OLB"),
                     step(f"bounce {key} {m}: DEM, gravity only in flight")
                 iso = run_drop(b, law, workdir / f"bounce-{key}-{m}-isolated", gic=0, dt=dt,
                                t_max=t_max, h_min=h_min)
-            at = []
-            for v, e_dem in zip(dem.v_in, dem.e):
-                if not math.isfinite(e_dem):
-                    at.append(math.nan)
-                    continue
-                r = impact(m, m_eff=b.mass, k_hertz=b.k_hertz, v=float(v), c=cal.c, tau=cal.tau,
-                           history=False)
-                at.append(r.e)
-            out.append(BounceCase(key, m, law, ex, dem, iso, at, dt))
+            def exact_e(run: DemBounces | None) -> list[float]:
+                # the exact single collision at each impact speed the DEM run saw
+                if run is None:
+                    return []
+                return [impact(m, m_eff=b.mass, k_hertz=b.k_hertz, v=float(v), c=cal.c,
+                               tau=cal.tau, history=False).e if math.isfinite(e) else math.nan
+                        for v, e in zip(run.v_in, run.e)]
+
+            out.append(BounceCase(key, m, law, ex, dem, iso, exact_e(dem), exact_e(iso), dt))
     return out

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
-import numpy as np
+from ..dem.io import read_dump, read_log as read_thermo
 
 __all__ = ["LawSpec", "Material", "Wall", "coeff_text", "backend", "run_lammps", "read_thermo",
            "read_dump", "input_path", "LammpsError", "NATIVE_MODELS"]
@@ -206,49 +206,3 @@ def run_lammps(name: str, workdir: Path, variables: Mapping[str, object], *, np_
         err = [ln for ln in text.splitlines() if "ERROR" in ln]
         raise LammpsError(f"LAMMPS ({name}) failed: {err[-1] if err else text[-400:]}")
     return workdir / log
-
-
-def read_thermo(log: Path) -> dict[str, np.ndarray]:
-    """Thermo columns of every run in a LAMMPS log, concatenated (header 'Step ...')."""
-    cols: list[str] | None = None
-    rows: list[list[float]] = []
-    for line in Path(log).read_text(errors="replace").splitlines():
-        parts = line.split()
-        if parts and parts[0] == "Step":
-            if cols is None:
-                cols = parts
-            continue
-        if cols is not None and len(parts) == len(cols):
-            try:
-                rows.append([float(x) for x in parts])
-            except ValueError:
-                continue
-    if cols is None:
-        return {}
-    a = np.array(rows, dtype=float).reshape(-1, len(cols))
-    return {c: a[:, i] for i, c in enumerate(cols)}
-
-
-def read_dump(path: Path) -> list[tuple[int, dict[str, np.ndarray]]]:
-    """A LAMMPS text dump (``dump custom``): [(step, {column: values})], atoms sorted by id."""
-    frames = []
-    lines = Path(path).read_text().splitlines()
-    i = 0
-    while i < len(lines):
-        if lines[i].startswith("ITEM: TIMESTEP"):
-            step = int(lines[i + 1])
-            n = int(lines[i + 3])
-            head = lines[i + 8].split()[2:]
-            data = np.array([ln.split() for ln in lines[i + 9:i + 9 + n]], dtype=float
-                            ).reshape(n, len(head))
-            cols = {h: data[:, j] for j, h in enumerate(head)}
-            if "id" in cols and n:
-                order = np.argsort(cols["id"])
-                cols = {h: v[order] for h, v in cols.items()}
-            frames.append((step, cols))
-            i += 9 + n
-        else:
-            i += 1
-    return frames
-
-

@@ -108,8 +108,8 @@ class GasSetup:
                                 m=self.mass, T0=self.T0, phi=self.phi)
 
 
-QUICK_GAS = GasSetup(n=2000, t_end_tau0=5.0, tc_ratio=0.01, dumps=4)
-FULL_GAS = GasSetup(n=4000, t_end_tau0=100.0, tc_ratio=0.04, dumps=12)
+QUICK_GAS = GasSetup(n=2000, phi=0.05, t_end_tau0=4.0, tc_ratio=0.01, dumps=4)
+FULL_GAS = GasSetup(n=4000, phi=0.05, t_end_tau0=100.0, tc_ratio=0.02, dumps=12)
 
 
 @dataclass
@@ -127,6 +127,8 @@ class GasRun:
     exponent: float = math.nan
     exponent_err: float = math.nan
     wall_s: float = 0.0
+    steps: int = 0
+    fit_from: float = math.nan  # start of the late-time fit [s]
 
 
 @dataclass
@@ -251,10 +253,11 @@ def run_gas(workdir: Path, setup: GasSetup = QUICK_GAS, *, models: tuple[str, ..
         t, keep = np.unique(t, return_index=True)  # a segment's first line repeats the last
         T = T[keep]
         steps_total += int(th["Step"][-1])
-        run = GasRun(m, law, t, T, d / f"gas-{m}.dump", wall_s=wall)
+        run = GasRun(m, law, t, T, d / f"gas-{m}.dump", wall_s=wall, steps=int(th["Step"][-1]))
         frames = read_dump(run.dump)
         dt_list, dr, fr = [], [], []
-        for step_no, cols in frames:
+        for f in frames:
+            step_no, cols = f.step, f.columns
             x = np.stack([cols["x"], cols["y"], cols["z"]], 1)
             v = np.stack([cols["vx"], cols["vy"], cols["vz"]], 1)
             dn, fl = homogeneity(x, v, s.box, cells)
@@ -263,8 +266,9 @@ def run_gas(workdir: Path, setup: GasSetup = QUICK_GAS, *, models: tuple[str, ..
             fr.append(fl)
         run.dump_t = _step_times(th, np.array(dt_list))
         run.density_ratio, run.flow_ratio = np.array(dr), np.array(fr)
-        run.exponent, run.exponent_err = fit_late_exponent(t, T, t_from=min(0.3 * t[-1], 10.0 * tau0)
-                                                           if t[-1] > 2 * tau0 else 0.5 * t[-1])
+        # late times: from 10 tau0 (or the last 70 % of a shorter run)
+        run.fit_from = min(0.3 * t[-1], 10.0 * tau0)
+        run.exponent, run.exponent_err = fit_late_exponent(t, T, run.fit_from)
         runs[m] = run
     st = GasStudy(s, runs, dens0, haff_window=min(4.0, s.t_end_tau0),
                   particle_steps=float(steps_total) * s.n)
