@@ -47,7 +47,7 @@ def isolated_drops(tmp_path_factory):
         law = LawSpec(m, b.e, b.v_in, cal.beta)
         ex = theory.bounce_sequence(m, m=b.mass, k_hertz=b.k_hertz, c=cal.c, tau=cal.tau,
                                     height=bounce.DROP_HEIGHT, h_min=bounce.H_MIN)
-        t_max = min(ex.t_rest, 1.2)
+        t_max = min(ex.t_rest + 0.05, 1.2)
         dem = bounce.run_drop(b, law, work / m, gic=0, dt=dt, t_max=t_max)
         grav = bounce.run_drop(b, law, work / f"{m}-g", gic=1, dt=dt, t_max=0.5)
         out[m] = (ex, dem, grav, cal)
@@ -56,10 +56,9 @@ def isolated_drops(tmp_path_factory):
 
 @pytest.mark.parametrize("model", ["LH", "Ts", "KK", "Li", "Hunt", "Jian"])
 def test_bounce_sequence_matches_exact_solver(isolated_drops, model):
-    # dt = t_c / 1000: the DEM collision is first-order accurate in dt (issue 11 verifies
-    # 1e-3 per collision); errors of successive bounces add up, hence 2e-3 over the sequence
+    # dt = t_c / 1000 at the first impact; the DEM collision is first-order accurate in dt
     ex, dem, _grav, _cal = isolated_drops[model]
-    t_end = min(ex.t_rest, 1.2)
+    t_end = min(ex.t_rest + 0.05, 1.2) - 0.01
     n = sum(1 for b in ex.bounces if b.t_impact + b.tc_overlap + b.flight < t_end)
     assert n >= 3
     assert dem.n >= n
@@ -75,7 +74,13 @@ def test_bounce_sequence_matches_exact_solver(isolated_drops, model):
     b = load_balls()["ILB"]
     e_at = [impact(model, m_eff=b.mass, k_hertz=b.k_hertz, v=float(v), c=_cal.c, tau=_cal.tau,
                    history=False).e for v in dem.v_in[:n]]
-    assert dem.e[:n] == pytest.approx(e_at, rel=1e-3)
+    # LH's force jumps to c v at first touch: the largest first-order error (about
+    # alpha dt / (2 T e) at the zero-force end, 1.5e-3 at its 4th bounce where e = 0.29).
+    # Gravity is switched off at the step in which the overlap changes sign, not at the
+    # crossing itself: up to g dt of speed per crossing, 2 g dt / v relative (1e-3 at 9 cm/s).
+    dt = hertz_limit(b.mass, b.k_hertz, b.v_in)[0] / 1000
+    tol = (2e-3 if model == "LH" else 1e-3) + 2 * 9.81 * dt / dem.v_in[:n]
+    assert np.all(np.abs(dem.e[:n] / np.array(e_at) - 1) <= tol)
     assert dem.v_in[:n] == pytest.approx(v_ex, rel=5e-3)
     assert dem.e[:n] == pytest.approx(e_ex, rel=5e-3)
     assert dem.tc[:n] == pytest.approx(tc_ex, rel=2e-3)
@@ -182,7 +187,10 @@ def test_bounce_table(dem_report):
     rows = _csv(dem_report[0] / "bounce.csv")
     assert [r["law"] for r in rows] == ["LH", "Ts", "KK", "Li", "Hunt", "Jian"]
     for r in rows:
-        assert float(r["check max de/e"]) < 1e-3, r["law"]
+        # per bounce the tolerance of test_bounce_sequence_matches_exact_solver grows at low
+        # speed (gravity switched per step: 2 g dt / v); the slowest counted bounces (a few
+        # cm/s) allow up to 5e-3
+        assert float(r["check max de/e"]) < 5e-3, r["law"]
         assert float(r["check max dv/v"]) < 5e-3, r["law"]
         assert int(r["bounces DEM"]) <= int(r["bounces exact"])
     by = {r["law"]: r for r in rows}
