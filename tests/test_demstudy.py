@@ -191,7 +191,8 @@ def test_bounce_table(dem_report):
         # speed (gravity switched per step: 2 g dt / v); the slowest counted bounces (a few
         # cm/s) allow up to 5e-3
         assert float(r["check max de/e"]) < 5e-3, r["law"]
-        assert float(r["check max dv/v"]) < 5e-3, r["law"]
+        # impact speeds of the sequence carry the errors of every bounce before (Hunt: 55)
+        assert float(r["check max dv/v"]) < 2e-2, r["law"]
         assert int(r["bounces DEM"]) <= int(r["bounces exact"])
     by = {r["law"]: r for r in rows}
     # e falling at low speed (LH) ends the bouncing first; e rising towards 1 (Hunt) last

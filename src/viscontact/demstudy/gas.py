@@ -103,6 +103,27 @@ class GasSetup:
         tc = hertz_limit(self.mass / 2.0, self.k_hertz, 3.0 * self.vref)[0]
         return tc / self.steps_per_contact
 
+    def prepare_variables(self, coeffs: str, data: str) -> dict[str, object]:
+        """The ``-var`` values of ``inputs/gas_prepare.in`` for this gas."""
+        nequil = int(math.ceil(self.equil_collisions * self.free_time / self.dt0))
+        return {"n": self.n, "phi": self.phi, "sigma": self.sigma, "rho": self.rho,
+                "seed": self.seed, "T0": self.T0, "dt": self.dt0, "nequil": nequil,
+                "coeffs": coeffs, "data": data}
+
+    def cool_variables(self, coeffs: str, data: str, dump: str) -> dict[str, object]:
+        """The ``-var`` values of ``inputs/gas_cool.in``: T sampled ``samples_per_tau0`` times
+        per tau0 at the start, the time step updated every 4 samples, ``dumps`` dumps."""
+        tau0 = self.tau0()
+        per_tau0 = tau0 / self.dt0
+        nthermo = max(1, int(per_tau0 / self.samples_per_tau0))
+        nseg = nthermo * 4
+        # dumps spread over the run at equal step counts (the time step grows slowly)
+        est_steps = per_tau0 * _haff_step_integral(self.t_end_tau0)
+        ndump = max(nseg, int(est_steps / max(1, self.dumps)) // nseg * nseg)
+        return {"data": data, "coeffs": coeffs, "T0": self.T0, "dt0": self.dt0,
+                "tend": self.t_end_tau0 * tau0, "nseg": nseg, "nthermo": nthermo,
+                "ndump": ndump, "dump": dump}
+
     def tau0(self, e: float | None = None) -> float:
         return theory.haff_tau0(self.e if e is None else e, n=self.n_density, sigma=self.sigma,
                                 m=self.mass, T0=self.T0, phi=self.phi)
@@ -212,18 +233,13 @@ def run_gas(workdir: Path, setup: GasSetup = QUICK_GAS, *, models: tuple[str, ..
     mat = s.material
     m_eff, r_eff = s.mass / 2.0, s.sigma / 4.0
     tau0 = s.tau0()
-    t_end = s.t_end_tau0 * tau0
     if step:
         step(f"gas: {s.n} spheres, elastic thermalisation")
     (workdir / "coeffs-elastic.lmp").write_text(
         coeff_text(LawSpec("LH", 1.0, s.vref), mat, m_eff=m_eff, r_eff=r_eff))
-    nequil = int(math.ceil(s.equil_collisions * s.free_time / s.dt0))
-    t0 = time.perf_counter()
-    run_lammps("gas_prepare.in", workdir, {
-        "n": s.n, "phi": s.phi, "sigma": s.sigma, "rho": s.rho, "seed": s.seed, "T0": s.T0,
-        "dt": s.dt0, "nequil": nequil, "coeffs": "coeffs-elastic.lmp", "data": "gas-start.data"},
-        np_=np_, log="log-prepare.lammps")
-    steps_total = nequil
+    pv = s.prepare_variables("coeffs-elastic.lmp", "gas-start.data")
+    run_lammps("gas_prepare.in", workdir, pv, np_=np_, log="log-prepare.lammps")
+    steps_total = int(pv["nequil"])
     start = _read_data_xv(workdir / "gas-start.data", s.n)
     cells = _cells(s)
     dens0, _ = homogeneity(start[0], start[1], s.box, cells)
@@ -236,17 +252,9 @@ def run_gas(workdir: Path, setup: GasSetup = QUICK_GAS, *, models: tuple[str, ..
         d.mkdir(exist_ok=True)
         (d / "coeffs.lmp").write_text(coeff_text(law, mat, m_eff=m_eff, r_eff=r_eff))
         (d / "gas-start.data").write_bytes((workdir / "gas-start.data").read_bytes())
-        per_tau0 = tau0 / s.dt0
-        nthermo = max(1, int(per_tau0 / s.samples_per_tau0))
-        nseg = nthermo * 4
-        # dumps spread over the run at equal step counts (the time step grows slowly)
-        est_steps = per_tau0 * _haff_step_integral(s.t_end_tau0)
-        ndump = max(nseg, int(est_steps / max(1, s.dumps)) // nseg * nseg)
         t1 = time.perf_counter()
-        log = run_lammps("gas_cool.in", d, {
-            "data": "gas-start.data", "coeffs": "coeffs.lmp", "T0": s.T0, "dt0": s.dt0,
-            "tend": t_end, "nseg": nseg, "nthermo": nthermo, "ndump": ndump,
-            "dump": f"gas-{m}.dump"}, np_=np_)
+        log = run_lammps("gas_cool.in", d, s.cool_variables("coeffs.lmp", "gas-start.data",
+                                                             f"gas-{m}.dump"), np_=np_)
         wall = time.perf_counter() - t1
         th = read_thermo(log)
         t, T = th["Time"], th["v_Tg"]
