@@ -40,8 +40,9 @@ CAPTIONS = {
     "collapse.png": "Column collapse. Left: the deposit's free surface for every law (first "
                     "seed) and the initial column (grey). Middle and right: run-out and deposit "
                     "angle per law, every seed (dots) with mean and standard deviation (bars).",
-    "collapse_snapshot.png": "The deposit of the column with Ts (first seed), spheres coloured "
-                             "by diameter (collapse-*.dump hold the whole collapse).",
+    "collapse_snapshot.png": "The deposit of the column with Ts (first seed) seen from the side, "
+                             "spheres to scale and coloured by diameter (collapse-*.dump hold "
+                             "the whole collapse in 3D).",
 }
 
 
@@ -196,7 +197,7 @@ def _gas_snapshot(res, path: Path) -> None:
         fr = read_dump(g.runs[m].dump)[-1]
         v = np.sqrt(fr["vx"] ** 2 + fr["vy"] ** 2 + fr["vz"] ** 2)
         ax = fig.add_subplot(1, len(laws), i + 1, projection="3d")
-        size = 4000.0 / max(len(v), 1) ** (2 / 3) * 6
+        size = 3e4 / max(len(v), 1)
         _scatter3d(ax, fr["x"] * 1e3, fr["y"] * 1e3, fr["z"] * 1e3, v / np.sqrt(np.mean(v ** 2)),
                    size, "viridis", f"{m}, t = {g.runs[m].t[-1] / g.setup.tau0():.3g} tau0",
                    "speed / rms speed")
@@ -243,19 +244,37 @@ def _collapse(res, path: Path) -> None:
 
 
 def _collapse_snapshot(res, path: Path) -> None:
+    """Side view (x-z) of the deposit, every sphere drawn to scale, the nearest in front."""
+    from matplotlib.collections import EllipseCollection
+
     f = res.flow
     r = next((r for r in f.runs if r.model == "Ts"), f.runs[0])
     fr = r.final
-    fig = plt.figure(figsize=(12, 5))
-    ax = fig.add_subplot(1, 1, 1, projection="3d")
+    d0 = f.setup.d0
     g = fr["type"] == 1
-    _scatter3d(ax, fr["x"][g] * 1e3, fr["y"][g] * 1e3, fr["z"][g] * 1e3,
-               2 * fr["radius"][g] / f.setup.d0, 18, "plasma",
-               f"{r.model}, seed {r.seed}: the deposit at rest", "diameter / d0")
-    fl = ~g
-    ax.scatter(fr["x"][fl] * 1e3, fr["y"][fl] * 1e3, fr["z"][fl] * 1e3, c="0.7", s=6)
-    ax.set_box_aspect((np.ptp(fr["x"]), np.ptp(fr["y"]) * 2, np.ptp(fr["z"])))
-    ax.view_init(elev=18, azim=-70)
+    front = float(np.percentile((fr["x"] + fr["radius"])[g], 99.0))
+    xmax = front + 4 * d0
+    fig, ax = plt.subplots(figsize=(13, 13 * (r.H0 + 2 * d0) / xmax + 1.2))
+    order = np.argsort(fr["y"])[::-1]  # far spheres first, near ones drawn over them
+    order = order[fr["x"][order] < xmax + d0]
+    diam = 2 * fr["radius"][order] / d0
+    offsets = np.column_stack([fr["x"][order], fr["z"][order]]) / d0
+    colors = np.where(fr["type"][order] == 1, 0.0, 1.0)
+    cmap = plt.get_cmap("plasma")
+    norm = plt.Normalize(0.8, 1.2)
+    facec = [cmap(norm(dd)) if c == 0.0 else (0.75, 0.75, 0.75, 1.0)
+             for dd, c in zip(diam, colors)]
+    coll = EllipseCollection(diam, diam, np.zeros_like(diam), units="xy", offsets=offsets,
+                             offset_transform=ax.transData, facecolors=facec,
+                             edgecolors="0.2", linewidths=0.3)
+    ax.add_collection(coll)
+    ax.set_xlim(-1, xmax / d0)
+    ax.set_ylim(-0.5, r.H0 / d0 + 1.5)
+    ax.set_aspect("equal")
+    ax.set(xlabel="x / d0", ylabel="z / d0",
+           title=f"{r.model}, seed {r.seed}: the deposit at rest, side view (grey: the rough floor)")
+    sm = plt.cm.ScalarMappable(norm=norm, cmap=cmap)
+    plt.colorbar(sm, ax=ax, shrink=0.8, label="diameter / d0")
     _save(fig, path)
 
 

@@ -121,13 +121,15 @@ def runout_and_slope(cols: dict[str, np.ndarray], L0: float, d0: float) -> tuple
     """(normalised run-out (L_f - L0) / L0, surface angle [deg]) of a deposit.
 
     L_f is the 99th percentile of the spheres' x + radius (a few grains rolling far ahead do
-    not count); the angle is that of the least-squares line through the free surface where it
-    lies between 20 % and 80 % of its highest point.
+    not count); the angle is that of the least-squares line through the free surface where its
+    height above the rough floor (whose top is at d0) lies between 20 % and 80 % of its
+    largest (the single layer of grains spread beyond the foot is left out).
     """
     g = cols["type"] == 1 if "type" in cols else slice(None)
     x, z, r = cols["x"][g], cols["z"][g], cols["radius"][g]
     front = float(np.percentile(x + r, 99.0))
     xs, hs = deposit_profile(x, z + r, 2.0 * d0)
+    hs = hs - d0
     hmax = hs.max()
     sel = (hs > 0.2 * hmax) & (hs < 0.8 * hmax)
     if sel.sum() >= 2:
