@@ -10,11 +10,16 @@ import sys
 def _dem_study(args: argparse.Namespace) -> int:
     import time
 
+    from ..demstudy.engine import LammpsError
     from ..demstudy.report import dem_study
+    from . import UserError
 
     t0 = time.perf_counter()
-    out = dem_study(args.out, quick=args.quick, np_=args.np, force=args.force,
-                    progress=None if args.quiet else sys.stderr)
+    try:
+        out = dem_study(args.out, quick=args.quick, np_=args.np, force=args.force,
+                        progress=None if args.quiet else sys.stderr)
+    except LammpsError as exc:  # no plugin, no LAMMPS, or LAMMPS stopped: one line
+        raise UserError(str(exc).splitlines()[0] if str(exc) else "LAMMPS failed") from None
     if not args.quiet:
         print(f"report written to {out}/ ({time.perf_counter() - t0:.0f} s); "
               f"open {out}/index.html", file=sys.stderr)

@@ -4,9 +4,9 @@ The study's inputs (``inputs/*.in``, plain LAMMPS) ``include`` a small file with
 lines of one law (``plugin load``, ``pair_style``, ``pair_coeff``, walls).  Those lines come from
 :mod:`viscontact.dem` (the plugin: every law, exact calibration per contact).  Where the plugin
 cannot be built, LAMMPS's own ``pair_style granular`` stands in for the laws it has
-(``backend="native"``: Ts as ``damping tsuji``, KK as ``viscoelastic``, LH as ``velocity``,
-calibrated through :mod:`viscontact.audit.engines` for one representative contact), so that the
-pipeline is the same and only these lines differ.  ``VISCONTACT_DEM_BACKEND=native`` forces it.
+(``VISCONTACT_DEM_BACKEND=native``: Ts as ``damping tsuji``, KK as ``viscoelastic``, LH as
+``velocity``, calibrated through :mod:`viscontact.audit.engines` for one representative
+contact), so that the pipeline is the same and only these lines differ.
 """
 
 from __future__ import annotations
@@ -63,17 +63,20 @@ class Wall:
 
 
 def backend() -> str:
-    """``plugin`` when :mod:`viscontact.dem` can build its plugin, else ``native``."""
+    """``plugin`` (the viscontact LAMMPS plugin, built if needed), or ``native`` when
+    ``VISCONTACT_DEM_BACKEND=native`` asks for LAMMPS's own pair_style granular (a stand-in
+    for LH, Ts and KK, for developing without a compiler).  LammpsError says what to install
+    when the plugin cannot be built."""
     forced = os.environ.get("VISCONTACT_DEM_BACKEND", "").strip().lower()
-    if forced in ("plugin", "native"):
-        return forced
-    try:
-        from .. import dem  # noqa: F401
-
-        dem.plugin_path()
-        return "plugin"
-    except Exception:  # no plugin yet, or it cannot be built here
+    if forced == "native":
         return "native"
+    from .. import dem
+
+    try:
+        dem.plugin_path()
+    except dem.PluginError as exc:
+        raise LammpsError(str(exc)) from None
+    return "plugin"
 
 
 def _plugin_text(law: LawSpec, mat: Material, walls: Sequence[Wall]) -> str:

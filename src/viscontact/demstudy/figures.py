@@ -20,7 +20,8 @@ CAPTIONS = {
                   "number, DEM with gravity throughout (markers) and the exact sequence of single "
                   "collisions (lines), one panel per ball. Bottom: how far the DEM e lies from the "
                   "exact single collision at the same impact speed, against g t_c / v, the speed "
-                  "gravity adds during a contact relative to the impact speed (filled: gravity "
+                  "gravity adds during a contact relative to the impact speed; the difference is about "
+                  "(1 - e) g t_c / v, below the dashed line (filled: gravity "
                   "throughout; open: gravity only in flight, the check, at the level of the time "
                   "step).",
     "bounce_series.png": "The exact bounce series of every law: impact speed against bounce "

@@ -393,8 +393,10 @@ law are in <code>coeffs-*.lmp</code>.</p>
 <h2>1. A ball bouncing to rest</h2>
 <p class="note">Each lacrosse ball falls from 15 cm onto a rigid plate. The DEM drop keeps
 gravity on during contact; the exact sequence is one exact collision per bounce with flights in
-closed form. They agree while g t_c / v is small and part as it grows (like v^(-6/5)): gravity
-then adds a speed during the contact comparable to the impact speed, and the ball ends resting
+closed form. They agree while g t_c / v is small and part as it grows (like v^(-6/5)): the
+DEM e falls below the exact one by about (1 - e) g t_c / v (an elastic bounce is symmetric in
+time and keeps e = 1 under gravity); at low speed gravity adds a speed during the contact
+comparable to the impact speed, and the ball ends resting
 on the plate after finitely many bounces for every law, whereas the exact series never ends for
 laws whose e does not fall at low speed. With gravity only in flight, the DEM reproduces the
 exact sequence to the level of the time step (check columns).</p>
@@ -504,6 +506,9 @@ def dem_study(out: str | os.PathLike = DEFAULT_OUT, *, quick: bool = False, np_:
     out = Path(out)
     files = report_files(cfg)
     old_files = _check_target(out, force, files)
+    from .engine import backend
+
+    backend()  # the plugin builds (or LammpsError says what to install) before any work
     created: list[Path] = []
     tmp: Path | None = None
     work: Path | None = None
