@@ -170,14 +170,53 @@ def _mpirun() -> str:
         return exe
 
 
+def last_thermo_time(log: Path) -> float | None:
+    """Simulated time of the last thermo line of a running LAMMPS log (``Time`` column), read
+    from its last few kilobytes; None if there is none yet."""
+    try:
+        with open(log, "rb") as fh:
+            fh.seek(0, os.SEEK_END)
+            fh.seek(max(0, fh.tell() - 4096))
+            lines = fh.read().decode(errors="replace").splitlines()
+    except OSError:
+        return None
+    for line in reversed(lines[1:]):
+        parts = line.split()
+        if len(parts) >= 2 and parts[0].isdigit():
+            try:
+                return float(parts[1])
+            except ValueError:
+                continue
+    return None
+
+
+def sim_time_ticker(log: Path, t_end: float, unit: float, label: str,
+                    say: Callable[[str], None] | None, every: float = 30.0
+                    ) -> Callable[[float], None] | None:
+    """A ``tick`` for :func:`run_lammps` that says every ``every`` seconds how far a run with
+    ``Time`` as its second thermo column has got (in ``unit``, e.g. tau0)."""
+    if say is None:
+        return None
+    last = [0.0]
+
+    def tick(seconds: float) -> None:
+        if seconds - last[0] >= every:
+            last[0] = seconds
+            t = last_thermo_time(log)
+            if t is not None:
+                say(f"{label}: t = {t / unit:.3g} of {t_end / unit:.3g}")
+
+    return tick
+
+
 def run_lammps(name: str, workdir: Path, variables: Mapping[str, object], *, np_: int = 1,
                log: str = "log.lammps", tick: Callable[[float], None] | None = None,
                timeout: float | None = None) -> Path:
     """Run the study input ``name`` in ``workdir`` with ``-var`` variables; returns the log.
 
-    np_ > 1 runs under ``mpirun -np``.  ``tick(fraction)`` is called while it runs (fraction of
-    the planned steps, from the log's thermo lines when it can tell).  Raises LammpsError with
-    LAMMPS's ERROR line when it fails.
+    np_ > 1 runs under ``mpirun -np``.  ``tick(seconds)`` is called about every half second while
+    it runs (see :func:`sim_time_ticker`).  Raises LammpsError with LAMMPS's ERROR line when it
+    fails.
     """
     workdir.mkdir(parents=True, exist_ok=True)
     src = input_path(name)

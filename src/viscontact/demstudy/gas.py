@@ -25,7 +25,9 @@ import numpy as np
 from ..dimensional import hertz_limit
 from ..laws import STUDY_MODELS
 from . import theory
-from .engine import LawSpec, Material, coeff_text, read_dump, read_thermo, run_lammps
+from .engine import (
+    LawSpec, Material, coeff_text, read_dump, read_thermo, run_lammps, sim_time_ticker,
+)
 
 __all__ = ["GasSetup", "GasRun", "GasStudy", "QUICK_GAS", "FULL_GAS", "run_gas", "homogeneity",
            "fit_late_exponent", "haff_deviation"]
@@ -253,8 +255,10 @@ def run_gas(workdir: Path, setup: GasSetup = QUICK_GAS, *, models: tuple[str, ..
         (d / "coeffs.lmp").write_text(coeff_text(law, mat, m_eff=m_eff, r_eff=r_eff))
         (d / "gas-start.data").write_bytes((workdir / "gas-start.data").read_bytes())
         t1 = time.perf_counter()
+        tick = sim_time_ticker(d / "log.lammps", s.t_end_tau0 * tau0, tau0,
+                               f"gas: cooling with {m} (t in tau0)", step)
         log = run_lammps("gas_cool.in", d, s.cool_variables("coeffs.lmp", "gas-start.data",
-                                                             f"gas-{m}.dump"), np_=np_)
+                                                             f"gas-{m}.dump"), np_=np_, tick=tick)
         wall = time.perf_counter() - t1
         th = read_thermo(log)
         t, T = th["Time"], th["v_Tg"]
