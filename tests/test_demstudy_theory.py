@@ -107,3 +107,29 @@ def test_bad_input():
         th.bounce_sequence("KK", m=0.1, k_hertz=1e6, c=1.0)
     with pytest.raises(ValueError, match="restitution"):
         th.haff_tau0(1.2, n=1.0, sigma=1.0, m=1.0, T0=1.0)
+
+
+def test_law_effect_anova():
+    # two-way analysis of variance (law, seed) of the collapse observables: a large law
+    # effect is found, a pure seed effect is not, and F equals the textbook formula
+    from viscontact.demstudy.flow import CollapseRun, FlowStudy, QUICK_FLOW
+
+    rng = np.random.default_rng(1)
+    laws, seeds = ["LH", "Ts", "KK"], [1, 2, 3, 4]
+    seed_eff = {1: 0.0, 2: 0.5, 3: -0.3, 4: 0.8}
+
+    def study(law_eff):
+        runs = [CollapseRun(m, s, 1.0, 2.0, 2.0 + law_eff[m] + seed_eff[s] + 0.05 * rng.normal(),
+                            20.0, 0.3, None) for m in laws for s in seeds]
+        return FlowStudy(QUICK_FLOW, runs)
+
+    F, p = study({"LH": 0.0, "Ts": 0.5, "KK": 1.0}).law_effect("runout")
+    assert p < 1e-6
+    s = study({"LH": 0.0, "Ts": 0.0, "KK": 0.0})
+    F, p = s.law_effect("runout")
+    Y = np.array([[next(r.runout for r in s.runs if r.model == m and r.seed == k) for k in seeds]
+                  for m in laws])
+    resid = Y - Y.mean(1, keepdims=True) - Y.mean(0, keepdims=True) + Y.mean()
+    F_ref = (4 * Y.mean(1).var(ddof=1)) / ((resid ** 2).sum() / 6)
+    assert F == pytest.approx(F_ref, rel=1e-12)
+    assert p > 1e-3

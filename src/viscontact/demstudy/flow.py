@@ -97,6 +97,29 @@ class FlowStudy:
     runs: list[CollapseRun]
     n_particles: int = 0
 
+    def law_effect(self, attr: str) -> tuple[float, float]:
+        """(F, p) of a two-way analysis of variance of ``attr`` (``runout``, ``angle``) with the
+        law and the seed as factors (every law collapses the same column of each seed): p is
+        the probability of law means at least this different if the law changed nothing.
+        NaN with fewer than two laws or seeds."""
+        from scipy.stats import f as fdist
+
+        laws = list(self.by_law())
+        seeds = sorted({r.seed for r in self.runs})
+        if len(laws) < 2 or len(seeds) < 2:
+            return math.nan, math.nan
+        val = {(r.model, r.seed): getattr(r, attr) for r in self.runs}
+        Y = np.array([[val[(m, sd)] for sd in seeds] for m in laws])
+        a, b = Y.shape
+        gm = Y.mean()
+        ss_law = b * ((Y.mean(1) - gm) ** 2).sum()
+        ss_seed = a * ((Y.mean(0) - gm) ** 2).sum()
+        ss_err = ((Y - gm) ** 2).sum() - ss_law - ss_seed
+        if ss_err <= 0:
+            return math.nan, math.nan
+        F = (ss_law / (a - 1)) / (ss_err / ((a - 1) * (b - 1)))
+        return float(F), float(fdist.sf(F, a - 1, (a - 1) * (b - 1)))
+
     def by_law(self) -> dict[str, list[CollapseRun]]:
         out: dict[str, list[CollapseRun]] = {}
         for r in self.runs:

@@ -382,7 +382,7 @@ def render_index(res: Results, tables: list[Table], version: str, backend: str) 
 <body>
 <h1>What the damping law changes in many-particle flows</h1>
 <p>Three DEM studies with LAMMPS and the viscontact plugin (<code>pair_style viscontact</code>,
-<code>fix viscontact/wall</code>; contact lines from <code>{e(backend)}</code>), every law calibrated
+<code>fix viscontact/wall</code>{'' if backend == 'plugin' else "; here LAMMPS's own pair_style granular stands in"}), every law calibrated
 exactly to the same restitution coefficient, each checked against theory where theory exists.
 Generated {e(stamp)} by <code>{e(_command(res.cfg, res.np_))}</code> with viscontact
 {e(version)}{' (quick: small systems, short runs)' if res.cfg.quick else ''}; run time: {e(secs)}.</p>
@@ -417,12 +417,27 @@ to -2/(1 + q).</p>
 {_fig("gas_snapshot.png")}
 
 <h2>3. Collapse of a granular column</h2>
+<p class="note">{e(_flow_verdict(f))}</p>
 {t["flow"].to_html()}
 {_fig("collapse.png")}
 {_fig("collapse_snapshot.png")}
 {t["flow_runs"].to_html()}
 </body></html>
 """
+
+
+def _flow_verdict(f: flow_mod.FlowStudy) -> str:
+    """Whether the laws differ beyond the spread across seeds (two-way ANOVA, law and seed)."""
+    parts = []
+    for attr, name in (("runout", "run-out"), ("angle", "deposit angle")):
+        F, p = f.law_effect(attr)
+        if not math.isfinite(p):
+            parts.append(f"{name}: too few seeds to tell")
+            continue
+        verdict = "differ beyond" if p < 0.05 else "do not differ beyond"
+        parts.append(f"{name}: the laws {verdict} the spread across seeds "
+                     f"(two-way analysis of variance, law and seed: F = {F:.2f}, p = {p:.2g})")
+    return "; ".join(parts) + "."
 
 
 def _results_json(res: Results) -> dict:
@@ -445,6 +460,7 @@ def _results_json(res: Results) -> dict:
     if f is not None:
         out["flow"] = {m: {"runout": [r.runout for r in rs], "angle": [r.angle for r in rs]}
                        for m, rs in f.by_law().items()}
+        out["flow_law_effect_p"] = {a: f.law_effect(a)[1] for a in ("runout", "angle")}
     from ..cli.common import finite_json
 
     return finite_json(out)
