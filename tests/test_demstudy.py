@@ -251,3 +251,11 @@ def test_report_page_in_a_browser(dem_report, webdriver):  # noqa: F811
         assert img["complete"] and img["w"] > 0, img
     tables = {t["id"]: t["rows"] for t in page["tables"]}
     assert tables["gas"] == 6 and tables["flow"] == 6 and tables["bounce"] == 6
+
+
+def test_lammps_error_is_one_line(tmp_path):
+    from viscontact.demstudy.engine import LammpsError, run_lammps
+
+    with pytest.raises(LammpsError, match="ERROR") as info:
+        run_lammps("bounce.in", tmp_path, {"radius": 0.03})  # the other variables missing
+    assert "\n" not in str(info.value)

@@ -227,24 +227,28 @@ def run_lammps(name: str, workdir: Path, variables: Mapping[str, object], *, np_
     if np_ > 1:
         cmd = [_mpirun(), "-np", str(np_)] + cmd
     env = dict(os.environ, OMP_NUM_THREADS="1")
-    proc = subprocess.Popen(cmd, cwd=workdir, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                            text=True, env=env)
+    out_path = workdir / (Path(log).stem + ".out")  # a file, not a pipe: never blocks LAMMPS
     t0 = time.monotonic()
-    try:
-        while proc.poll() is None:
-            time.sleep(0.5)
-            if timeout is not None and time.monotonic() - t0 > timeout:
+    with open(out_path, "w") as out_fh:
+        proc = subprocess.Popen(cmd, cwd=workdir, stdout=out_fh, stderr=subprocess.STDOUT,
+                                text=True, env=env)
+        try:
+            while proc.poll() is None:
+                time.sleep(0.5)
+                if timeout is not None and time.monotonic() - t0 > timeout:
+                    proc.kill()
+                    proc.wait()
+                    raise LammpsError(f"LAMMPS ({name}) ran longer than {timeout:.0f} s")
+                if tick is not None:
+                    tick(time.monotonic() - t0)
+        except BaseException:
+            if proc.poll() is None:
                 proc.kill()
-                raise LammpsError(f"LAMMPS ({name}) ran longer than {timeout:.0f} s")
-            if tick is not None:
-                tick(time.monotonic() - t0)
-        out = proc.stdout.read() if proc.stdout else ""
-    except BaseException:
-        if proc.poll() is None:
-            proc.kill()
-        raise
+                proc.wait()
+            raise
     if proc.returncode != 0:
-        text = out + ((workdir / log).read_text(errors="replace") if (workdir / log).exists() else "")
+        text = out_path.read_text(errors="replace") + (
+            (workdir / log).read_text(errors="replace") if (workdir / log).exists() else "")
         err = [ln for ln in text.splitlines() if "ERROR" in ln]
         raise LammpsError(f"LAMMPS ({name}) failed: {err[-1] if err else text[-400:]}")
     return workdir / log
