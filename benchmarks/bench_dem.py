@@ -20,8 +20,10 @@ mindlin NULL 0.0 0.5``, ``limit_damping``): ``velocity`` for LH, ``tsuji`` for T
 ``viscoelastic`` for the others (KK exactly; Li, Hunt, Jian and power have no native
 counterpart), each with the input the audit (:mod:`viscontact.audit.engines`) says gives
 e = 0.8 at 1 m/s for a pair of these spheres.  Each case is run ``--repeat`` times (best kept:
-on a shared machine the shortest is the least disturbed) after a warm-up; the figure is
-LAMMPS's loop time / (steps x particles) in microseconds, and the ``Pair`` share of it.
+on a shared machine the shortest is the least disturbed; the cases interleaved) after a
+warm-up; the figure is LAMMPS's loop time / (steps x particles) in microseconds, and the
+``Pair`` share of it.  The ratio plugin/native is also given by CPU time (loop time x LAMMPS's
+"CPU use" x ranks), which other work on a shared machine disturbs less than wall time.
 
 Targets: plugin / native <= 1 for every law; t(1 rank) / t(2 ranks) >= 1.7.
 """
@@ -44,6 +46,7 @@ KB = 1.380649e-23  # LAMMPS's Boltzmann constant in units si [J/K]
 
 _LOOP = re.compile(r"^Loop time of (\S+) on (\d+) procs for (\d+) steps with (\d+) atoms")
 _PAIR = re.compile(r"^Pair\s*\|\s*(\S+)\s*\|\s*(\S+)\s*\|")
+_CPU = re.compile(r"^(\S+)% CPU use with (\d+) MPI tasks")
 
 
 def packing_lines(kind: str, n_side: int) -> list[str]:
@@ -92,31 +95,42 @@ def cases() -> list[tuple[str, str, str]]:
 
 def write_input(path: Path, kind: str, n_side: int, warm: int, steps: int, repeat: int,
                 todo: list[tuple[str, str, list[str]]]) -> None:
+    """Every case ``repeat`` times, interleaved (A B C ... A B C ...), so that a burst of other
+    work on the machine does not fall on one case only; each time from the same packing."""
     body = []
-    for label, _law, pair_lines in todo:
-        body += [f"# case: {label}", "clear", *packing_lines(kind, n_side), *pair_lines,
-                 f"run {warm}"] + [f"run {steps}"] * repeat
+    for rep in range(repeat):
+        for label, _law, pair_lines in todo:
+            body += [f"# case: {label}, repeat {rep + 1}", "clear", *packing_lines(kind, n_side),
+                     *pair_lines, f"run {warm}", f"run {steps}"]
     path.write_text("\n".join(body) + "\n")
 
 
-def parse(log: Path, todo, repeat: int) -> dict[str, tuple[float, float, int]]:
-    """label -> (best us per particle-step, its Pair share, atoms)."""
-    loops, pairs = [], []
+def parse(log: Path, todo, repeat: int) -> dict[str, tuple[float, float, float, int]]:
+    """label -> (best wall us per particle-step, its Pair share, best CPU core-us per
+    particle-step (wall x CPU use x ranks: what the case cost while other work shared the
+    cores), atoms)."""
+    loops, pairs, cpus = [], [], []
     for line in log.read_text().splitlines():
         m = _LOOP.match(line)
         if m:
-            loops.append((float(m.group(1)), int(m.group(3)), int(m.group(4))))
+            loops.append((float(m.group(1)), int(m.group(2)), int(m.group(3)), int(m.group(4))))
         m = _PAIR.match(line)
         if m:
             pairs.append(float(m.group(2)))  # the average over ranks
-    per = 1 + repeat
-    if len(loops) != per * len(todo) or len(pairs) != len(loops):
-        raise RuntimeError(f"{log}: expected {per * len(todo)} runs, found {len(loops)}")
+        m = _CPU.match(line)
+        if m:
+            cpus.append(float(m.group(1)) / 100.0)
+    n = 2 * repeat * len(todo)  # a warm-up and a measured run per case and repeat
+    if not (len(loops) == len(pairs) == len(cpus) == n):
+        raise RuntimeError(f"{log}: expected {n} runs, found {len(loops)}")
     out = {}
     for k, (label, _law, _lines) in enumerate(todo):
-        runs = [(loops[k * per + j], pairs[k * per + j]) for j in range(1, per)]
-        (t, steps, atoms), pair_t = min(runs, key=lambda r: r[0][0])
-        out[label] = (1e6 * t / (steps * atoms), pair_t / t if t > 0 else math.nan, atoms)
+        idx = [2 * (rep * len(todo) + k) + 1 for rep in range(repeat)]
+        best = min(idx, key=lambda i: loops[i][0])
+        t, procs, steps, atoms = loops[best]
+        cpu = min(loops[i][0] * cpus[i] * loops[i][1] for i in idx)
+        out[label] = (1e6 * t / (steps * atoms), pairs[best] / t if t > 0 else math.nan,
+                      1e6 * cpu / (steps * atoms), atoms)
     return out
 
 
@@ -136,8 +150,8 @@ def main() -> int:
     warm = 150 if args.quick else 300
     plugin = dem.plugin_path(progress=lambda m: print(m, file=sys.stderr))
     todo = [c for c in cases() if c[0].startswith("native") or c[1] in args.laws]
-    print(f"plugin {plugin}\nload average {os.getloadavg()[0]:.2f} (timings on a shared machine "
-          "scale with the cores actually free)")
+    print(f"plugin {plugin}\nload average {os.getloadavg()[0]:.2f} before (timings on a shared "
+          "machine scale with the cores actually free)")
     results: dict[tuple[str, int], dict[str, tuple[float, float, int]]] = {}
     with tempfile.TemporaryDirectory(prefix="viscontact-bench-dem-") as tmp:
         for kind in args.packings:
@@ -149,17 +163,19 @@ def main() -> int:
                 results[(kind, ranks)] = parse(res.log_path, todo, args.repeat)
                 print(f"  {kind} on {ranks} rank(s): {res.seconds:.1f} s", file=sys.stderr)
     report(results, args)
+    print(f"load average {os.getloadavg()[0]:.2f} after")
     return 0
 
 
 def report(results, args) -> None:
     native_of = {law: NATIVE_OF.get(law, "viscoelastic") for law in LAWS}
     for kind in args.packings:
-        atoms = next(iter(results[(kind, args.ranks[0])].values()))[2]
-        print(f"\n{kind}: {atoms} particles; us per particle-step (Pair share) and plugin/native")
+        atoms = next(iter(results[(kind, args.ranks[0])].values()))[3]
+        print(f"\n{kind}: {atoms} particles; wall us per particle-step (Pair share), plugin/native "
+              "by wall time and by CPU time")
         head = f"{'law':<6} {'native damping':<14}"
         for r in args.ranks:
-            head += f" | {r} rank: {'plugin':>13} {'native':>13} {'ratio':>5}"
+            head += f" | {r} rank: {'plugin':>13} {'native':>13} {'wall':>5} {'cpu':>5}"
         if len(args.ranks) > 1:
             head += f" | speed-up {args.ranks[0]}->{args.ranks[-1]}: plugin native"
         print(head)
@@ -167,9 +183,10 @@ def report(results, args) -> None:
             nat = f"native {native_of[law]}"
             row = f"{law:<6} {native_of[law]:<14}"
             for r in args.ranks:
-                pu, ps, _ = results[(kind, r)][f"plugin {law}"]
-                nu, ns, _ = results[(kind, r)][nat]
-                row += f" | {'':>7} {pu:7.3f} ({ps:4.0%}) {nu:7.3f} ({ns:4.0%}) {pu / nu:5.2f}"
+                pu, ps, pc, _ = results[(kind, r)][f"plugin {law}"]
+                nu, ns, nc, _ = results[(kind, r)][nat]
+                row += (f" | {'':>7} {pu:7.3f} ({ps:4.0%}) {nu:7.3f} ({ns:4.0%}) {pu / nu:5.2f} "
+                        f"{pc / nc:5.2f}")
             if len(args.ranks) > 1:
                 lo, hi = results[(kind, args.ranks[0])], results[(kind, args.ranks[-1])]
                 row += (f" | {'':>20} {lo[f'plugin {law}'][0] / hi[f'plugin {law}'][0]:5.2f}  "

@@ -6,8 +6,8 @@ Many independent collisions share one in-process LAMMPS run (one atom type, one 
 spheres head-on far apart from each other, and spheres falling on the wall z = 0.  The input is
 exactly what a user pastes: ``viscontact.dem.coeff_lines(...)`` (``pair_coeff * *`` and the
 ``fix vcwall all viscontact/wall zplane 0.0 NULL ...`` line).  LAMMPS is advanced one step at a
-time (``run 1 pre no post no``: the same trajectory as one long run) and positions, velocities
-and forces are recorded after every step, at t_n = n dt.
+time (``run 1 pre no post no``: the same trajectory as one long run); positions and forces are
+recorded after every step, at t_n = n dt, velocities and spins before and after.
 
 From those samples (no knowledge of the force law is used):
   * contact start: the overlap delta crosses 0 between two steps (linear interpolation; exact

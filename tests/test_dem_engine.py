@@ -6,7 +6,8 @@ reason when absent).  The settling pack: 480 frictional spheres (mu = 0.5, two r
 velocities and spins, read from one data file so that every run starts from the same atoms, on
 a frictionless floor (native ``fix wall/gran``, no history) under gravity, drifting along x at
 1 m/s, 400 steps with ~30 neighbour-list rebuilds and about a fifth of the atoms crossing the
-boundary between two ranks (``processors 2 1 1``).
+boundary between two ranks (``processors 2 1 1``, moved every 50 steps by ``fix balance``, which
+migrates atoms in its pre_exchange: the history fix must, and does, come before it).
 """
 
 from __future__ import annotations
@@ -31,8 +32,8 @@ BOX = (0.0, NX * SPACING, 0.0, NY * SPACING, 0.0, 3 * NZ * SPACING)
 STEPS = 400
 DRIFT = 1.0  # m/s
 COLUMNS = ("xu", "yu", "zu", "vx", "vy", "vz", "omegax", "omegay", "omegaz")
-#: 1 against 2 ranks, restart: measured differences up to 6e-13 (velocities, spins; relative to
-#: the largest value of each quantity), from the order of force sums; asserted 1e-10
+#: 1 against 2 ranks, restart, rebuilds: measured differences up to 2.6e-12 (velocities, spins;
+#: relative to the largest value of each quantity), from the order of force sums; asserted 1e-10
 TOL = 1e-10
 
 _PACK = """\
@@ -52,6 +53,7 @@ run {steps}
 write_dump all custom {out} id xu yu zu vx vy vz omegax omegay omegaz modify sort id format float %.17g
 """
 _SETUP = """\
+fix bal all balance 50 1.0 shift x 5 1.02
 fix floor all wall/gran granular hertz/material 1e7 0.3 0.3 tangential linear_nohistory 0 0 zplane 0.0 NULL
 fix g all gravity 9.81 vector 0 0 -1
 fix 1 all nve/sphere
@@ -121,20 +123,22 @@ def test_one_rank_equals_two_ranks(pack, newton, law):
     assert crossed >= 20, crossed
 
 
-def test_history_survives_rebuilds_exactly(pack):
+@pytest.mark.parametrize("newton", ["off", "on"])
+def test_history_survives_rebuilds_exactly(pack, newton):
     """Rebuilding the neighbour lists at every step (each contact's history goes through the
-    per-atom partner lists 400 times) gives the run that rebuilds only when needed (~30 times):
-    the round trip list -> partner lists -> new list keeps every value."""
+    per-atom partner lists 400 times; newton on: half of them through the ghost atoms' reverse
+    communication) gives the run that rebuilds only when needed (~30 times): the round trip
+    list -> partner lists -> new list keeps every value."""
     d, _ = pack
-    ref, proc = _run_pack(d, "rebuild.some", law="Jian")
+    ref, proc = _run_pack(d, f"rebuild.some.{newton}", law="Jian", newton=newton)
     assert 10 <= _builds(proc) < STEPS / 4
-    script = _PACK.format(plugin=plugin_line(), newton="off", pstyle="", law=LAWS["Jian"],
+    script = _PACK.format(plugin=plugin_line(), newton=newton, pstyle="", law=LAWS["Jian"],
                           setup=_SETUP.replace("check yes", "check no"), steps=STEPS,
-                          out="rebuild.every")
-    proc = run_lmp(script, d, name="in.rebuild.every")
+                          out=f"rebuild.every.{newton}")
+    proc = run_lmp(script, d, name=f"in.rebuild.every.{newton}")
     assert_ok(proc)
     assert _builds(proc) >= STEPS
-    diffs = _max_rel_diff(ref, read_atoms(d / "rebuild.every"))
+    diffs = _max_rel_diff(ref, read_atoms(d / f"rebuild.every.{newton}"))
     assert max(diffs.values()) <= TOL, diffs
 
 
@@ -173,8 +177,7 @@ read_data pack.data
 pair_style viscontact
 pair_coeff * * hertz/material 1e7 0.3 damping {law} tangential mindlin 0.5
 {setup}
-run {n}
-write_restart {tag}.restart
+{write}
 run {n}
 write_dump all custom {tag}.ref id xu yu zu vx vy vz omegax omegay omegaz modify sort id format float %.17g
 """
@@ -188,9 +191,12 @@ write_dump all custom {tag}.{out} id xu yu zu vx vy vz omegax omegay omegaz modi
 """
 
 
-@pytest.mark.parametrize("newton,np_", [("off", 1), ("on", 2)])
-def test_restart_continues_exactly(pack, newton, np_):
+@pytest.mark.parametrize("newton,np_,mode", [("off", 1, "command"), ("on", 2, "command"),
+                                             ("on", 2, "periodic")])
+def test_restart_continues_exactly(pack, newton, np_, mode):
     """N steps, write_restart, N steps in one process against read_restart + N steps: equal.
+    ``mode``: the write_restart command after the run, or a restart file written during the
+    run's last step by ``restart N``.
 
     The reference continues with a second ``run`` (not one run of 2N steps) because every
     ``run`` starts by recomputing the forces from the full-step velocities (LAMMPS's setup; the
@@ -199,10 +205,13 @@ def test_restart_continues_exactly(pack, newton, np_):
     Negative control: the restarted run with its history dropped differs grossly.
     """
     d, _ = pack
-    tag = f"rs.{newton}.{np_}"
+    tag = f"rs.{newton}.{np_}.{mode}"
     law = LAWS["Jian"]
+    n = STEPS // 2
+    write = (f"run {n}\nwrite_restart {tag}.restart" if mode == "command" else
+             f"restart {n} {tag}.*\nrun {n}\nrestart 0\nshell mv {tag}.{n} {tag}.restart")
     proc = run_lmp(_RESTART_A.format(plugin=plugin_line(), newton=newton, law=law, setup=_SETUP,
-                                     n=STEPS // 2, tag=tag), d, np=np_, name=f"in.{tag}.a")
+                                     n=n, tag=tag, write=write), d, np=np_, name=f"in.{tag}.a")
     assert_ok(proc)
     proc = run_lmp(_RESTART_B.format(plugin=plugin_line(), tag=tag, pstyle="", setup=_SETUP,
                                      n=STEPS // 2, out="restarted"), d, np=np_, name=f"in.{tag}.b")
@@ -345,6 +354,12 @@ BAD = [
     ("hertz/material 1e7 0.3 damping KK alpha 0.3 vref 1 end sticky tangential none",
      "end must be followed by force"),
     ("hertz 1e7 0.3 damping KK alpha 0.3 vref 1 tangential none", "expected 'hertz/material E NU'"),
+    ("", "expected 'hertz/material E NU'"),
+    ("hertz/material 1e7", "hertz/material needs two values, E and NU"),
+    ("hertz/material 1e7 0.3 damping KK alpha 0.3 alpha 0.4 vref 1 tangential none",
+     "alpha given twice"),
+    ("hertz/material 1e7 0.3 damping Jian c0 5 tangential none", "damping Jian with c0 needs tau S"),
+    ("hertz/material 1e7 0.3 damping KK alpha 0.3 vref 1 tangential mindlin", "mindlin needs MU"),
 ]
 
 
@@ -420,6 +435,9 @@ fix 1 all nve/sphere
 neighbor 0.0002 bin
 neigh_modify delay 0 every 1 check yes
 timestep 5e-6
+thermo 50
+thermo_style custom step press pxx pyy pzz pxy pxz pyz
+thermo_modify format float %.17g
 run {steps}
 write_dump all custom {out} id xu yu zu vx vy vz omegax omegay omegaz fx fy fz tqx tqy tqz modify sort id format float %.17g
 """
@@ -466,6 +484,8 @@ def _native_groups(a, b):
 
 @pytest.mark.parametrize("law,option,damp,end", NATIVE, ids=[f"{n[0]}-{n[1]}-{n[3]}" for n in NATIVE])
 def test_same_as_native_pair_granular(native_pack, law, option, damp, end):
+    from viscontact import dem
+
     d = native_pack
     limit = " limit_damping" if end == "force" else ""
     native = (f"hertz/material {NAT_E} {damp} {NAT_NU} damping {option} tangential mindlin NULL "
@@ -481,9 +501,120 @@ def test_same_as_native_pair_granular(native_pack, law, option, damp, end):
                        d, name=f"in.{out}")
         assert_ok(proc)
         results[tag] = read_atoms(d / out)
+        results[tag]["thermo"] = dem.read_log(d / f"in.{out}.log")
+    # the virial (pressure tensor) too
+    for col in ("Press", "Pxx", "Pyy", "Pzz", "Pxy", "Pxz", "Pyz"):
+        ref, got = results["native"]["thermo"][col], results["ours"]["thermo"][col]
+        assert np.abs(ref - got).max() <= 1e-10 * np.abs(results["native"]["thermo"]["Press"]).max()
     diffs = _native_groups(results["native"], results["ours"])
     assert diffs["fx"] <= 1e-10 and diffs["tqx"] <= 1e-10, diffs  # one step's forces, torques
     assert diffs["xu"] <= 1e-8 and diffs["vx"] <= 1e-8 and diffs["omegax"] <= 1e-8, diffs
     # the comparison can fail: c0 off by 1e-6 is seen in the forces
     off = _native_groups(results["native"], results["off"])
     assert off["fx"] > 1e-10, off
+
+
+def test_error_in_process_is_an_exception(tmp_path):
+    """In the lammps Python module a bad pair_coeff raises (one ERROR line), and LAMMPS stays
+    usable: the corrected line is accepted."""
+    from viscontact.dem import plugin
+
+    lmp = plugin.new_lammps(["-log", "none", "-screen", "none", "-nocite"])
+    try:
+        lmp.commands_string("units si\natom_style sphere\n"
+                            "region box block -0.05 0.05 -0.05 0.05 -0.05 0.05\ncreate_box 1 box\n"
+                            "pair_style viscontact")
+        with pytest.raises(Exception) as info:
+            lmp.command("pair_coeff * * hertz/material 1e7 0.7 damping KK alpha 0.3 vref 1 "
+                        "tangential none")
+        errs = [ln for ln in str(info.value).splitlines() if ln.startswith("ERROR")]
+        assert len(errs) == 1 and "nu must be in (-1, 0.5], got 0.7" in errs[0], errs
+        lmp.command(f"pair_coeff * * {GOOD}")
+    finally:
+        lmp.close()
+
+
+# ---------------------------------------------------------------------------- mixing
+_MIX = """\
+{plugin}
+units si
+atom_style sphere
+atom_modify map array
+boundary f f f
+comm_modify vel yes
+region box block -0.01 0.01 -0.01 0.01 -0.01 0.01
+create_box 2 box
+create_atoms 1 single 0 0 0
+create_atoms 2 single {x2:.17g} 0 0
+set atom 1 diameter {d1:.17g} density {rho1:.17g} vx {v:.17g} vy {vt:.17g}
+set atom 2 diameter {d2:.17g} density {rho2:.17g}
+pair_style viscontact
+pair_coeff 1 1 hertz/material {E1:.17g} {nu1} damping KK alpha {a1} vref {vr1} tangential mindlin 0.5
+pair_coeff 2 2 hertz/material {E2:.17g} {nu2} damping {law2} alpha {a2} vref {vr2} tangential mindlin 0.2
+fix 1 all nve/sphere
+timestep 1e-7
+compute pl all pair/local force p1 p2 p3 p4
+dump pl all local 1 local.dump c_pl[*]
+dump_modify pl format float %.17g
+run 1
+write_dump all custom mix.dump id mass x y z vx vy vz fx fy fz modify sort id format float %.17g
+"""
+
+
+def test_mixing_of_two_types(tmp_path):
+    """pair_coeff 1 1 and 2 2 only: the 1-2 contact uses E* and G* of the two materials
+    (1/E* = sum (1-nu^2)/E, 1/G* = sum (2-nu)/G), alpha, vref, mu as geometric means, c0 from
+    that contact's m* and R* (unequal spheres); normal and Mindlin force after one step, to
+    1e-12.  Different laws for the two types: one error line asking for pair_coeff 1 2."""
+    r1, r2, rho1, rho2 = 1.0e-3, 1.5e-3, 2500.0, 1200.0
+    E1, nu1, E2, nu2, a1, a2, vr1, vr2 = 1.0e7, 0.3, 5.0e6, 0.4, 0.3, 0.5, 1.0, 2.0
+    fmt = dict(plugin=plugin_line(), x2=r1 + r2 - 1e-5, d1=2 * r1, d2=2 * r2, rho1=rho1,
+               rho2=rho2, v=0.3, vt=0.05, E1=E1, nu1=nu1, E2=E2, nu2=nu2, a1=a1, a2=a2, vr1=vr1,
+               vr2=vr2)
+    proc = run_lmp(_MIX.format(law2="KK", **fmt), tmp_path)
+    assert_ok(proc)
+    at = read_atoms(tmp_path / "mix.dump")
+    dt = 1e-7
+    x = np.stack([at["x"], at["y"], at["z"]], 1)
+    f = np.stack([at["fx"], at["fy"], at["fz"]], 1)
+    m = at["mass"]
+    vhalf = np.stack([at["vx"], at["vy"], at["vz"]], 1) - 0.5 * dt * f / m[:, None]
+    dx = x[0] - x[1]
+    r = np.linalg.norm(dx)
+    n = dx / r
+    delta = r1 + r2 - r
+    vr = vhalf[0] - vhalf[1]
+    ddelta = -vr @ n
+    vtr = vr - (vr @ n) * n  # no spin yet
+    estar = 1 / ((1 - nu1**2) / E1 + (1 - nu2**2) / E2)
+    gstar = 1 / (2 * (2 - nu1) * (1 + nu1) / E1 + 2 * (2 - nu2) * (1 + nu2) / E2)
+    reff, meff = r1 * r2 / (r1 + r2), m[0] * m[1] / (m[0] + m[1])
+    k = 4 / 3 * estar * math.sqrt(reff)
+    c0 = damping_coefficient("KK", math.sqrt(a1 * a2), m_eff=meff, k_hertz=k, v=math.sqrt(vr1 * vr2))
+    fn = k * delta**1.5 + c0 * math.sqrt(delta) * ddelta
+    ft = -8 * gstar * math.sqrt(reff * delta) * dt * vtr  # sticks: far below mu F_n
+    assert np.linalg.norm(ft) < 0.1 * math.sqrt(0.5 * 0.2) * fn
+    expect = fn * n + ft
+    np.testing.assert_allclose(f[0], expect, rtol=0, atol=1e-12 * np.abs(expect).max())
+    np.testing.assert_allclose(f[1], -expect, rtol=0, atol=1e-12 * np.abs(expect).max())
+    # compute pair/local (pair single): F_n at the dumped (full-step) velocities, F_t, overlap
+    local = (tmp_path / "local.dump").read_text().split("ITEM: ENTRIES")[-1].split("\n")[1]
+    fn_local, *rest = map(float, local.split())
+    v_full = np.stack([at["vx"], at["vy"], at["vz"]], 1)
+    fn_full = k * delta**1.5 + c0 * math.sqrt(delta) * (-(v_full[0] - v_full[1]) @ n)
+    assert fn_local == pytest.approx(fn_full, rel=1e-12)
+    np.testing.assert_allclose(rest[:3], ft, rtol=0, atol=1e-12 * np.abs(expect).max())
+    assert rest[3] == pytest.approx(delta, rel=1e-12)
+    # unequal laws cannot be mixed
+    proc = run_lmp(_MIX.format(law2="LH", **fmt), tmp_path, name="in.bad")
+    errs = error_lines(proc)
+    assert len(errs) == 1 and "types 1 and 2 use different laws; give pair_coeff 1 2" in errs[0], errs
+
+
+def test_bad_pair_style_option_one_error_line(tmp_path):
+    script = _ERR.format(plugin=plugin_line(), style="sphere", comm="comm_modify vel yes",
+                         coeff=GOOD).replace("pair_style viscontact", "pair_style viscontact 1.0")
+    proc = run_lmp(script, tmp_path)
+    errs = error_lines(proc)
+    assert 0 < proc.returncode < 128 and len(errs) == 1, errs
+    assert "unknown pair_style option '1.0'" in errs[0] and "drop_history" in errs[0], errs

@@ -106,12 +106,11 @@ def hertz_errors(setup: dc.Setup) -> np.ndarray:
 @pytest.mark.parametrize("material", [dc.Material(48e9, 0.20, 2800), dc.Material(20e9, 0.25, 2500)],
                          ids=["glass", "limestone"])
 def test_chung_ooi_1_two_spheres_elastic(material):
-    # R = 10 mm at +-10 m/s; velocity Verlet is second order for the elastic contact
-    # (delta_max, F_max, e), t_c from the overlap crossings within 1e-3 at t_c/1000
+    # R = 10 mm at +-10 m/s; velocity Verlet is second order for the elastic contact: at
+    # t_c/1000 delta_max, F_max, t_c within 1e-5 (measured 4e-7 to 7e-7), e = 1 to 1e-9
     err = hertz_errors(dc.Setup(ELASTIC, material, 0.010, [dc.Shot("pair", 20.0)],
                                 steps_per_tc=1000))[0]
-    assert np.all(np.abs(err[:2]) < 1e-5), err
-    assert abs(err[2]) < TOL and abs(err[3]) < 1e-9, err
+    assert np.all(np.abs(err[:3]) < 1e-5) and abs(err[3]) < 1e-9, err
 
 
 @pytest.mark.parametrize("material", [dc.Material(70e9, 0.30, 2699), dc.Material(40e9, 0.35, 1800)],
@@ -119,8 +118,7 @@ def test_chung_ooi_1_two_spheres_elastic(material):
 def test_chung_ooi_2_sphere_on_rigid_plane(material):
     err = hertz_errors(dc.Setup(ELASTIC, material, 0.10, [dc.Shot("wall", 0.2)], wall="rigid",
                                 steps_per_tc=1000))[0]
-    assert np.all(np.abs(err[:2]) < 1e-5), err
-    assert abs(err[2]) < TOL and abs(err[3]) < 1e-9, err
+    assert np.all(np.abs(err[:3]) < 1e-5) and abs(err[3]) < 1e-9, err
 
 
 @pytest.mark.parametrize("material", [dc.Material(380e9, 0.23, 4000),
@@ -158,17 +156,20 @@ def test_chung_ooi_4_normal_restitution(oblique):
 def test_chung_ooi_4_gross_sliding_matches_impulse_theory(oblique):
     # tan(theta) >= 3.5 mu (1 + e): the contact slides throughout, J_t = mu J_n; rigid-body
     # theory: e_t = 1 - mu (1 + e) cot(theta), w = 5 mu (1 + e) v cos(theta) / (2 R).
-    # Mindlin's spring makes the contact slide from the first instant here (F_t/F_n starts at
-    # 6 (G*/E*) tan(theta) > mu), so only the time step separates DEM and theory: 1e-3.
+    # Mindlin's spring reaches the Coulomb limit within a tiny part of the contact (its ratio to
+    # the elastic normal force, 6 (G*/E*) tan(theta), exceeds mu; only the damping term, large
+    # at the first instant, holds it back), so J_t = mu J_n up to that instant and the time
+    # step: asserted 1e-4 (measured: e_t within 8e-7, spin within 3e-6 relative, normal e
+    # within 9e-7); a torque arm of R - delta/2 instead of R would be off by ~1e-3.
     sliding = [m for m in oblique if math.tan(math.radians(m.shot.angle)) >= 3.5 * MU * (1 + E4)]
     assert len(sliding) >= 10
     for m in sliding:
         th = math.radians(m.shot.angle)
         et = 1 - MU * (1 + E4) / math.tan(th)
         w = 5 * MU * (1 + E4) * V4 * math.cos(th) / (2 * R4)
-        assert abs(m.vt_out / m.vt_in - et) < TOL, (m.shot.angle, m.vt_out / m.vt_in, et)
+        assert abs(m.vt_out / m.vt_in - et) < 1e-4, (m.shot.angle, m.vt_out / m.vt_in, et)
         # the sphere moves in +x on the plane z = 0: friction spins it about +y
-        assert abs(m.spin_out / w - 1) < TOL, (m.shot.angle, m.spin_out, w)
+        assert abs(m.spin_out / w - 1) < 1e-4, (m.shot.angle, m.spin_out, w)
 
 
 def test_chung_ooi_4_sticking_regime(oblique):
@@ -184,3 +185,26 @@ def test_chung_ooi_4_sticking_regime(oblique):
         et = m.vt_out / m.vt_in
         assert 1 - et <= MU * (1 + E4) / math.tan(th) * (1 + 1e-9), (m.shot.angle, et)
         assert abs(m.spin_out * R4 - 2.5 * (m.vt_in - m.vt_out)) <= 1e-9 * m.vt_in
+
+
+def test_chung_ooi_4_sticking_regime_converges():
+    """Below the sliding threshold the answer is Mindlin's (no closed form): the DEM converges
+    to it as dt halves (t_c/125 ... t_c/1000: the largest change over the angles, of e_t and of
+    the spin ratio w R / v_t, shrinks at least linearly, measured order 1.2), and at
+    t_c/1000 it is within 1e-4 of the limit (first-order Richardson estimate: the last change;
+    measured 1.6e-5 and 4.0e-5).  E.g. e_t = 0.6201 at 20 degrees, against 5/7 for rolling."""
+    law = dem.contact_law("Ts", e=E4, vref=V4)
+    angles = [a for a in ANGLES if math.tan(math.radians(a)) < 3.5 * MU * (1 + E4)]
+    shots = [dc.Shot("wall", V4 * math.cos(math.radians(a)), angle=a) for a in angles]
+    levels = (125, 250, 500, 1000)
+    out = []
+    for n in levels:
+        res = dc.run(dc.Setup(law, ALOX, R4, shots, friction=MU, steps_per_tc=n))
+        out.append([[m.vt_out / m.vt_in, m.spin_out * R4 / (V4 * math.sin(math.radians(a)))]
+                    for m, a in zip(res, angles)])
+    out = np.array(out)                                       # level x angle x (e_t, spin)
+    change = np.abs(np.diff(out, axis=0)).max(axis=1)         # per halving, largest over angles
+    for q in range(2):
+        order = np.polyfit(-np.log(levels[1:]), np.log(change[:, q]), 1)[0]
+        assert order >= MIN_ORDER, (q, change[:, q], order)
+        assert change[-1, q] < 1e-4, (q, change[:, q])

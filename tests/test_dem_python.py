@@ -197,6 +197,8 @@ def test_run_input_checks_before_running(tmp_path):
         dem.run_input(src, variables={"1x": 3})
     with pytest.raises(ValueError, match="one word"):
         dem.run_input(src, variables={"x": "a b"})
+    with pytest.raises(ValueError, match="directory .* does not exist"):
+        dem.run_input(src, log=tmp_path / "no" / "x.log")
     foreign = tmp_path / "in.x.log"
     foreign.write_text("my notes\n")
     for force in (False, True):  # never another program's file, not even with force

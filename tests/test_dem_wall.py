@@ -10,6 +10,8 @@ other, sliding and spinning along x across the boundary between two ranks
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import pytest
 
@@ -27,7 +29,10 @@ from viscontact.dem import plugin as _plugin  # noqa: E402
 import dem_collide as dc  # noqa: E402
 
 E, NU, RHO, R = 1.0e7, 0.3, 2500.0, 0.002
-LAW = dem.contact_law("Jian", e=0.6, vref=0.5, beta=0.5)
+@functools.lru_cache(maxsize=None)
+def jian() -> dem.DemLaw:
+    """The layer's law (calibrated on first use, not at collection)."""
+    return dem.contact_law("Jian", e=0.6, vref=0.5, beta=0.5)
 COLUMNS = ("x", "y", "z", "vx", "vy", "vz", "omegax", "omegay", "omegaz")
 #: 1 against 2 ranks and restart: the arithmetic is the same in every case (each atom's wall
 #: force depends on that atom alone), so only rounding could differ; asserted 1e-10
@@ -76,7 +81,7 @@ def layer(tmp_path_factory):
 
 
 def _lines():
-    return dem.coeff_lines(LAW, E=E, nu=NU, friction=0.3, wall="same")
+    return dem.coeff_lines(jian(), E=E, nu=NU, friction=0.3, wall="same")
 
 
 def _run_layer(d, out, body, *, np_=1, start="read_data layer.data", wall=None):
@@ -142,7 +147,7 @@ def _shot(wall_line: str, x0, v0, *, steps_per_tc=1000, second=False):
     the force samples' magnitude, the velocity after each contact, dt.  ``second``: after the
     rebound the velocity is reversed and the sphere hits the same wall again."""
     mat = dc.Material(E, NU, RHO)
-    setup = dc.Setup(LAW, mat, 0.01, [dc.Shot("wall", 1.0)])
+    setup = dc.Setup(jian(), mat, 0.01, [dc.Shot("wall", 1.0)])
     m_eff, _, k = dc.effective(setup, setup.shots[0])
     dt = dc.hertz_tc(m_eff, k, 1.0) / steps_per_tc
     cl = _lines()
@@ -201,7 +206,7 @@ def test_jian_clock_restarts_on_second_contact():
     cl = _lines()
     f, legs, dt = _shot(cl.wall_fix, (0.0, 0.0, 0.01 + 1e-4), (0.0, 0.0, -1.0), second=True)
     mat = dc.Material(E, NU, RHO)
-    setup = dc.Setup(LAW, mat, 0.01, [dc.Shot("wall", 1.0)])
+    setup = dc.Setup(jian(), mat, 0.01, [dc.Shot("wall", 1.0)])
     ex1 = dc.exact(setup, dc.Shot("wall", 1.0))
     v1 = legs[0][2]              # the first rebound speed = the second impact speed
     assert abs(v1 / ex1.e - 1) < 1e-3
@@ -209,9 +214,38 @@ def test_jian_clock_restarts_on_second_contact():
     e2 = abs(legs[1][2]) / v1
     assert abs(e2 / ex2.e - 1) < 1e-3
     m_eff, _, k = dc.effective(setup, setup.shots[0])
-    c = vc.damping_coefficient("Jian", LAW.alpha, m_eff=m_eff, k_hertz=k, v=LAW.vref)
+    c = vc.damping_coefficient("Jian", jian().alpha, m_eff=m_eff, k_hertz=k, v=jian().vref)
     kept = vc.impact("KK", m_eff=m_eff, k_hertz=k, v=v1, c=c).e
     assert abs(kept - ex2.e) > 20 * abs(e2 - ex2.e)
+
+
+def test_sphere_at_rest_on_the_wall():
+    """A sphere settles on the wall under gravity: the wall fix's global vector (the force on
+    the group) is m g upwards, the overlap the Hertz one, (m g / k)^(2/3), and no spin
+    (strongly damped, so that it is at rest to rounding after 0.04 s)."""
+    cl = dem.coeff_lines(dem.contact_law("LH", e=0.1, vref=0.5), E=E, nu=NU, friction=0.3,
+                         wall="same")
+    lmp = _plugin.new_lammps()
+    g = 9.81
+    m = 4.0 / 3.0 * np.pi * R**3 * RHO
+    k = vc.dimensional.hertz_stiffness(vc.dimensional.effective_modulus(E, NU, E, NU), R)
+    try:
+        for c in ["units si", "atom_style sphere", "atom_modify map array", "boundary f f f",
+                  "comm_modify vel yes", "region box block -0.01 0.01 -0.01 0.01 -0.01 0.01",
+                  "create_box 1 box", f"create_atoms 1 single 0 0 {R * 1.001!r}",
+                  f"set group all diameter {2 * R!r}", f"set group all density {RHO!r}",
+                  cl.pair_style, cl.pair_coeff, cl.wall_fix,
+                  f"fix g all gravity {g} vector 0 0 -1", "fix 1 all nve/sphere",
+                  "timestep 1e-6", "thermo 0", "run 40000"]:
+            lmp.command(c)
+        fz = lmp.extract_fix("vcwall", 0, 1, 2)
+        z = float(lmp.numpy.extract_atom("x")[0, 2])
+        w = np.array(lmp.numpy.extract_atom("omega")[0])
+    finally:
+        lmp.close()
+    assert abs(fz / (m * g) - 1) < 1e-6
+    assert abs((R - z) / (m * g / k) ** (2 / 3) - 1) < 1e-6
+    assert np.all(w == 0.0)
 
 
 # ---- one error line for every bad input --------------------------------------------------------
@@ -307,6 +341,23 @@ def test_no_particle_material_one_error():
     assert err is not None and "no material for atom type 1" in err, err
 
 
+def test_inserted_atom_without_material_one_error():
+    """An atom inserted during the run (fix deposit) whose type has no material: an error when
+    it touches the wall, never a force from E* = 0."""
+    lmp = _plugin.new_lammps()
+    try:
+        with pytest.raises(Exception, match="fix viscontact/wall: no material for atom type 1"):
+            lmp.commands_string(
+                "units si\natom_style sphere\nboundary f f f\n"
+                "region box block -0.1 0.1 -0.1 0.1 0 0.1\ncreate_box 1 box\n"
+                "region ins block -0.01 0.01 -0.01 0.01 0.06 0.07\n"
+                "fix dep all deposit 1 1 1 12345 region ins vz -1 -1 id max\n"
+                f"fix vcwall all viscontact/wall {GOOD.replace(' particle 1e7 0.3', '')}\n"
+                "fix 1 all nve/sphere\ntimestep 1e-6\nrun 200")
+    finally:
+        lmp.close()
+
+
 def test_material_from_pair_coeff():
     pair = ("comm_modify vel yes\npair_style viscontact\npair_coeff * * hertz/material 1e7 0.3 "
             "damping KK alpha 0.2 vref 1 tangential none")
@@ -321,3 +372,92 @@ def test_lmp_executable_one_error_line(tmp_path):
     errs = error_lines(proc)
     assert proc.returncode != 0 and len(errs) == 1, (proc.returncode, errs)
     assert "tangential mindlin MU must be a finite number >= 0, got '-0.1'" in errs[0]
+
+
+# ---- the same as LAMMPS's own fix wall/gran where a native damping equals ours ------------------
+
+def test_same_as_native_fix_wall_gran(layer):
+    """fix wall/gran granular hertz/material E DAMP NU damping viscoelastic tangential mindlin
+    NULL 0.0 MU limit_damping (LAMMPS's wall of the particles' own material) against
+    fix viscontact/wall ... damping KK c0 (DAMP m sqrt(R)) end force tangential mindlin MU with
+    wall_material E NU (the same material): the sliding, spinning layer, 3000 steps.  Measured:
+    positions equal, velocities, spins, forces and torques within 1.2e-16 (relative to the
+    largest value); asserted 1e-10.  Negative control: c0 off by 1e-6 is seen."""
+    damp, mu = 3000.0, 0.3
+    m = 4.0 / 3.0 * np.pi * R**3 * RHO
+    c0 = float(damp * m * np.sqrt(R))  # viscoelastic: eta_n = DAMP m* a, a = sqrt(R* delta)
+    native = (f"fix floor all wall/gran granular hertz/material {E!r} {damp!r} {NU!r} damping "
+              f"viscoelastic tangential mindlin NULL 0.0 {mu!r} limit_damping zplane 0.0 NULL")
+    ours = (f"fix vcwall all viscontact/wall zplane 0.0 NULL wall_material {E!r} {NU!r} damping "
+            f"KK c0 {c0!r} end force tangential mindlin {mu!r} particle {E!r} {NU!r}")
+    body = ("run 3000\nwrite_dump all custom {out}.f id fx fy fz tqx tqy tqz modify sort id "
+            "format float %.17g")
+    res = {}
+    for tag, wall in (("native", native), ("ours", ours),
+                      ("off", ours.replace(f"c0 {c0!r}", f"c0 {c0 * (1 + 1e-6)!r}"))):
+        out = f"nat-{tag}.dump"
+        res[tag] = _run_layer(layer, out, body.format(out=out), wall=wall)
+        res[tag].update(read_atoms(layer / f"{out}.f"))
+    a, b = res["native"], res["ours"]
+    for group in (("x", "y", "z"), ("vx", "vy", "vz"), ("omegax", "omegay", "omegaz"),
+                  ("fx", "fy", "fz"), ("tqx", "tqy", "tqz")):
+        ref = np.stack([a[c] for c in group])
+        diff = np.abs(ref - np.stack([b[c] for c in group])).max() / np.abs(ref).max()
+        assert diff <= 1e-10, (group, diff)
+    off = np.abs(a["fz"] - res["off"]["fz"]).max() / np.abs(a["fz"]).max()
+    assert off > 1e-10, off
+
+
+def test_per_type_materials_and_wall_material():
+    """Two atom types of different E, nu (pair_coeff I I) and two radii hit a wall of a third
+    material: each contact has its own E* = 1/((1-nu^2)/E + (1-nu_w^2)/E_w), k_Hertz, m* = m
+    and c0 from its m*, k (FORM alpha); e, t_c, F_max against the exact solver within 1e-3 at
+    dt = t_c/1000 (end overlap: t_c between the overlap crossings)."""
+    law = dem.contact_law("KK", e=0.7, vref=1.0, end="overlap")
+    kw = law.keywords()
+    mats = {1: (1.0e7, 0.3, 0.010), 2: (4.0e7, 0.2, 0.006)}    # E, nu, R
+    ew, nuw, v = 2.0e7, 0.25, 1.0
+    ref = {}
+    for t, (Et, nut, Rt) in mats.items():
+        m = 4.0 / 3.0 * np.pi * Rt**3 * RHO
+        k = vc.dimensional.hertz_stiffness(vc.dimensional.effective_modulus(Et, nut, ew, nuw), Rt)
+        c = vc.damping_coefficient("KK", law.alpha, m_eff=m, k_hertz=k, v=law.vref)
+        ref[t] = vc.impact("KK", m_eff=m, k_hertz=k, v=v, c=c, end="overlap")
+    dt = min(r.tc for r in ref.values()) / 1000
+    lmp = _plugin.new_lammps()
+    try:
+        cmds = ["units si", "atom_style sphere", "atom_modify map array sort 0 0.0",
+                "boundary f f f", "comm_modify vel yes",
+                "region box block -0.1 0.1 -0.1 0.1 -0.01 0.1", "create_box 2 box"]
+        for t, (Et, nut, Rt) in mats.items():
+            x = -0.05 if t == 1 else 0.05
+            cmds += [f"create_atoms {t} single {x} 0 {Rt + 0.5 * dt * v!r}",
+                     f"set atom {t} diameter {2 * Rt!r}", f"set atom {t} density {RHO!r}",
+                     f"set atom {t} vz {-v}"]
+        cmds += ["pair_style viscontact"]
+        cmds += [f"pair_coeff {t} {t} hertz/material {Et!r} {nut!r} {kw} tangential none"
+                 for t, (Et, nut, Rt) in mats.items()]
+        cmds += [f"fix vcwall all viscontact/wall zplane 0.0 NULL wall_material {ew!r} {nuw!r} "
+                 f"{kw} tangential none", "fix 1 all nve/sphere", f"timestep {dt!r}",
+                 "thermo 0", "neighbor 0.001 bin", "run 0"]
+        for c in cmds:
+            lmp.command(c)
+        z, fz = [], []
+        for _ in range(int(2.5 * max(r.tc for r in ref.values()) / dt)):
+            lmp.command("run 1 pre no post no")
+            z.append(np.array(lmp.numpy.extract_atom("x")[:2, 2]))
+            fz.append(np.array(lmp.numpy.extract_atom("f")[:2, 2]))
+        vz = np.array(lmp.numpy.extract_atom("v")[:2, 2])
+    finally:
+        lmp.close()
+    z, fz = np.array(z), np.array(fz)
+    t = dt * np.arange(1, len(z) + 1)
+    for i, (tt, (Et, nut, Rt)) in enumerate(mats.items()):
+        delta = Rt - z[:, i]
+        inside = np.nonzero(delta > 0)[0]
+        i0, i1 = inside[0], inside[-1] + 1
+        start = t[i0] - dt * delta[i0] / (delta[i0] - delta[i0 - 1]) if i0 > 0 else 0.5 * dt
+        end = dc._crossing(t, delta, i1)
+        got = np.array([vz[i] / v, end - start, dc._peak(t, fz[:, i])])
+        want = np.array([ref[tt].e, ref[tt].tc, ref[tt].fmax])
+        assert np.all(np.abs(got / want - 1) < 1e-3), (tt, got, want)

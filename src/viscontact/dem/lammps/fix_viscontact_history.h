@@ -71,6 +71,7 @@ class FixViscontactHistory : public Fix {
   bool list_valid;          // per-neighbour arrays match the current list and atom order
   bool partners_current;    // partner lists hold everything the per-neighbour arrays do
   int maxpartner;
+  int nlocal_neigh, nall_neigh;    // atom counts when the list was built
 
   void store_partners();
   void add_partner(int i, double tag, const double *v, double sign);

@@ -89,7 +89,8 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       fail("zcylinder cannot be used with periodic x or y");
     iarg = 5;
   } else {
-    fail("unknown wall style '" + style + "'; allowed: xplane yplane zplane (LO HI) or zcylinder R");
+    fail("unknown wall style '" + style +
+         "'; allowed: xplane yplane zplane (LO HI) or zcylinder R");
   }
 
   // materials and the law
@@ -111,7 +112,8 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
         wall_rigid = true;
         i += 2;
       } else {
-        if (i + 2 >= args.size()) fail("wall_material needs E NU (E > 0 Pa, NU in (-1, 0.5]) or rigid");
+        if (i + 2 >= args.size())
+          fail("wall_material needs E NU (E > 0 Pa, NU in (-1, 0.5]) or rigid");
         err = parse_material("wall_material", args[i + 1], args[i + 2], wall_E, wall_nu);
         if (!err.empty()) fail(err);
         i += 3;
@@ -194,12 +196,30 @@ void FixWallViscontact::init()
         fail("no material for atom type " + std::to_string(t) +
              ": give particle E NU, or pair_style viscontact with pair_coeff " +
              std::to_string(t) + " " + std::to_string(t));
-      type_law[t].Estar = type_law[t].Gstar = 0.0;    // never touches the wall
+      type_law[t].Estar = type_law[t].Gstar = 0.0;    // an error if it ever touches the wall
       continue;
     }
     type_law[t].Estar = 1.0 / (viscontact::inverse_Estar_term(E, nu) + inv_E_wall);
     type_law[t].Gstar = 1.0 / (viscontact::inverse_Gstar_term(E, nu) + inv_G_wall);
   }
+  cache.assign(1 << CACHE_BITS, Coeffs());    // the materials may have changed
+}
+
+const viscontact::ContactCoeffs &FixWallViscontact::coeffs(int type, double m, double r)
+{
+  uint64_t bm, br;
+  std::memcpy(&bm, &m, sizeof bm);
+  std::memcpy(&br, &r, sizeof br);
+  const uint64_t key = (bm * 0x9E3779B97F4A7C15ULL) ^ (br * 0xC2B2AE3D27D4EB4FULL) ^
+      static_cast<uint64_t>(type) * 0x165667B19E3779F9ULL;
+  Coeffs &c = cache[(key * 0xD6E8FEB86659FD93ULL) >> (64 - CACHE_BITS)];
+  if (c.type != type || c.m != m || c.r != r) {    // wall: m* = m, R* = r
+    c.cc = viscontact::contact_coeffs(type_law[type], m, r);
+    c.type = type;
+    c.m = m;
+    c.r = r;
+  }
+  return c.cc;
 }
 
 void FixWallViscontact::setup(int vflag)
@@ -219,18 +239,24 @@ void FixWallViscontact::min_post_force(int vflag)
 
 /* ----------------------------------------------------------------------
    one sphere-wall contact: atom i, wall w, overlap delta > 0, n the unit normal from the wall
-   into the sphere.  At setup the history is read but not advanced (as pair granular does).
+   into the sphere.  At setup (update_history false) the history is read, never written.
 ------------------------------------------------------------------------- */
 
 void FixWallViscontact::contact(int i, int w, double delta, const double n[3],
                                 bool update_history, double t_now)
 {
-  double *h = &history[i][w * HIST];    // touch, xi[3], t0
+  double *stored = &history[i][w * HIST];    // touch, xi[3], t0
+  double h[HIST];
+  for (int m = 0; m < HIST; m++) h[m] = stored[m];
   const double r = atom->radius[i];
   const double *v = atom->v[i];
   const double *om = atom->omega[i];
   const double dt = update->dt;
   const viscontact::LawParams &lp = type_law[atom->type[i]];
+  if (lp.Estar == 0.0)    // a type absent from the group at init (e.g. inserted since)
+    error->one(FLERR, std::string(PREFIX) + "no material for atom type " +
+                          std::to_string(atom->type[i]) +
+                          ": give particle E NU, or pair_coeff I I of pair viscontact");
 
   double wr[3] = {r * om[0], r * om[1], r * om[2]};
   double vtr[3];
@@ -241,18 +267,15 @@ void FixWallViscontact::contact(int i, int w, double delta, const double n[3],
     h[1] = h[2] = h[3] = 0.0;
     h[4] = viscontact::contact_start_time(t_now, dt, delta, ddelta);
   }
-  const viscontact::ContactCoeffs cc = viscontact::contact_coeffs(lp, atom->rmass[i], r);
+  const viscontact::ContactCoeffs &cc = coeffs(atom->type[i], atom->rmass[i], r);
   const double fn = viscontact::clamp_normal(
       viscontact::normal_force(delta, ddelta, t_now - h[4], cc.k, cc.c0, cc.tau, lp.p), lp.clamp);
 
   double ft[3] = {0.0, 0.0, 0.0};
   if (lp.friction) {
     const double kt = viscontact::mindlin_stiffness(lp.Gstar, r, delta);
-    double xi[3] = {h[1], h[2], h[3]};
-    // setup: dt = 0 gives F_t = -k_t xi of the stored spring (Coulomb-limited), unchanged
-    viscontact::mindlin_tangential(xi, n, vtr, update_history ? dt : 0.0, kt,
-                                   lp.mu * std::fabs(fn), ft);
-    if (update_history) h[1] = xi[0], h[2] = xi[1], h[3] = xi[2];
+    viscontact::mindlin_tangential(&h[1], n, vtr, dt, kt, lp.mu * std::fabs(fn), ft,
+                                   update_history);
     double tq[3];
     viscontact::tangential_torque(n, ft, r, tq);
     double *torque = atom->torque[i];
@@ -260,6 +283,10 @@ void FixWallViscontact::contact(int i, int w, double delta, const double n[3],
     torque[1] += tq[1];
     torque[2] += tq[2];
   }
+  // a run's setup computes forces from the history but never changes it (as pair viscontact
+  // and pair granular): a contact new at setup starts at the first step
+  if (update_history)
+    for (int m = 0; m < HIST; m++) stored[m] = h[m];
   double *f = atom->f[i];
   for (int d = 0; d < 3; d++) {
     const double fd = fn * n[d] + ft[d];
@@ -301,7 +328,7 @@ void FixWallViscontact::post_force(int /*vflag*/)
       }
       if (delta > 0.0) {
         contact(i, w, delta, n, update_history, t_now);
-      } else {
+      } else if (update_history) {
         double *h = &history[i][w * HIST];    // contact open: forget it
         for (int m = 0; m < HIST; m++) h[m] = 0.0;
       }

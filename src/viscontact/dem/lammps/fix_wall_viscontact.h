@@ -11,11 +11,14 @@
    from `particle E NU`, else from pair viscontact's `pair_coeff I I`.  The force law, c0 and tau
    per contact, the clamp, the Jian clock and the Mindlin step are those of
    viscontact_contact.h, exactly as in the pair style.  The cylinder is treated like a plane
-   tangent at the contact point (R* = r, as LAMMPS fix wall/gran does).
+   tangent at the contact point (R* = r, as LAMMPS fix wall/gran does).  Walls are static; the
+   friction torque acts with the arm r, as in fix wall/gran (for KK, LAMMPS's `viscoelastic`,
+   the two fixes agree to rounding: tests/test_dem_wall.py).  Requires units si.
 
    History per atom and wall: touch flag, tangential displacement xi[3], contact start time;
-   it migrates with the atom and is written to restart files.  Global vector (3): the total
-   force of the wall(s) on the group [N].
+   it migrates with the atom and is written to restart files.  A run's setup reads it and
+   never writes it (as pair viscontact and pair granular).  Global vector (3): the total force
+   of the wall(s) on the group [N].
 
    This file is part of viscontact.  Compiled into a LAMMPS plugin it links GPL-2 LAMMPS. */
 #ifndef VISCONTACT_FIX_WALL_VISCONTACT_H
@@ -24,6 +27,7 @@
 #include "fix.h"
 #include "viscontact_contact.h"
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -65,6 +69,17 @@ class FixWallViscontact : public Fix {
   double wall_E, wall_nu;
   bool has_particle;
   double particle_E, particle_nu;
+
+  // k, c0, tau depend on (type, m, r) only: a direct-mapped cache keeps the alpha form's
+  // powers out of the step for the few distinct spheres of most packings
+  struct Coeffs {
+    int type = -1;
+    double m = 0.0, r = 0.0;
+    viscontact::ContactCoeffs cc{0.0, 0.0, 0.0};
+  };
+  static constexpr int CACHE_BITS = 8;
+  std::vector<Coeffs> cache;
+  const viscontact::ContactCoeffs &coeffs(int type, double m, double r);
 
   // per atom: nwall * HIST values; per wall: touch flag, xi[3], contact start time
   static constexpr int HIST = 1 + viscontact::HISTORY_SIZE;

@@ -6,6 +6,7 @@
 
 #include "atom.h"
 #include "comm.h"
+#include "domain.h"
 #include "error.h"
 #include "fix_viscontact_history.h"
 #include "force.h"
@@ -16,27 +17,40 @@
 #include "update.h"
 #include "utils.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstdint>
 #include <cstring>
 
 using namespace LAMMPS_NS;
 namespace vc = viscontact;
 
+static const char *const HISTORY_ID = "VISCONTACT_HISTORY";
+static const char *const DUMMY_ID = "VISCONTACT_HISTORY_DUMMY";
+
 PairViscontact::PairViscontact(LAMMPS *lmp) :
     Pair(lmp), params(nullptr), Ein(nullptr), nuin(nullptr), drop_history(0), need_history(0),
     fix_history(nullptr)
 {
-  single_enable = 0;
+  single_enable = 1;
+  single_extra = 4;    // F_t (x, y, z) and the overlap, for compute pair/local p1..p4
+  svector = new double[single_extra];
   restartinfo = 1;
   finitecutflag = 1;
   beyond_contact = 0;
   no_virial_fdotr_compute = 1;
+  // a placeholder at this point of the fix list (replaced by the history fix in init_style), so
+  // the history fix comes before fixes defined later that migrate atoms (fix balance)
+  if (domain->box_exist && !modify->get_fix_by_id(HISTORY_ID) && !modify->get_fix_by_id(DUMMY_ID))
+    modify->add_fix(std::string(DUMMY_ID) + " all DUMMY");
 }
 
 PairViscontact::~PairViscontact()
 {
   if (copymode) return;
+  delete[] svector;
+  svector = nullptr;
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
@@ -45,7 +59,8 @@ PairViscontact::~PairViscontact()
     for (int i = 0; i <= atom->ntypes; i++) delete[] params[i];
     delete[] params;
   }
-  if (fix_history && modify->get_fix_by_id(fix_history->id)) modify->delete_fix(fix_history->id);
+  if (fix_history && modify->get_fix_by_id(HISTORY_ID)) modify->delete_fix(HISTORY_ID);
+  if (modify->get_fix_by_id(DUMMY_ID)) modify->delete_fix(DUMMY_ID);
 }
 
 void PairViscontact::allocate()
@@ -156,6 +171,7 @@ void PairViscontact::init_style()
   if (comm->ghost_velocity == 0) fail("pair viscontact requires 'comm_modify vel yes'");
 
   neighbor->add_request(this, NeighConst::REQ_SIZE);
+  coeff_cache.assign(1 << COEFF_CACHE_BITS, CoeffCache());    // coefficients may have changed
 
   // history is needed for friction and Jian's clock
   need_history = 0;
@@ -167,9 +183,12 @@ void PairViscontact::init_style()
   if (need_history && fix_history == nullptr) {
     // one fixed ID, so that read_restart re-attaches the per-atom history whatever the
     // instance count of the run that wrote it
-    const std::string id = "VISCONTACT_HISTORY";
+    const std::string id = HISTORY_ID;
     Fix *f = modify->get_fix_by_id(id);
-    if (!f) f = modify->add_fix(id + " all VISCONTACT_HISTORY");
+    if (!f && modify->get_fix_by_id(DUMMY_ID))
+      f = modify->replace_fix(DUMMY_ID, id + " all VISCONTACT_HISTORY", 1);
+    else if (!f)
+      f = modify->add_fix(id + " all VISCONTACT_HISTORY");
     fix_history = dynamic_cast<FixViscontactHistory *>(f);
     if (!fix_history) fail(fmt::format("pair viscontact: fix ID {} is taken by another fix", id));
     if (fix_history->pair && fix_history->pair != this)
@@ -230,9 +249,6 @@ void PairViscontact::compute(int eflag, int vflag)
   FixViscontactHistory *fh = (fix_history && fix_history->ready()) ? fix_history : nullptr;
   if (need_history && !fh) fail("pair viscontact: contact history is not set up (internal error)");
 
-  // per-contact coefficients depend on (types, m*, R*): reuse the last ones when unchanged
-  int c_it = -1, c_jt = -1;
-  double c_m = -1.0, c_r = -1.0;
   vc::ContactCoeffs cc{0.0, 0.0, 0.0};
 
   const int inum = list->inum;
@@ -278,12 +294,23 @@ void PairViscontact::compute(int eflag, int vflag)
       const double mi = rmass[i], mj = rmass[j];
       const double meff = mi * mj / (mi + mj);
       const double reff = radi * radj / radsum;
-      if (itype != c_it || jtype != c_jt || meff != c_m || reff != c_r) {
-        cc = vc::contact_coeffs(lp, meff, reff);
-        c_it = itype;
-        c_jt = jtype;
-        c_m = meff;
-        c_r = reff;
+      {
+        // per-contact coefficients depend on (types, m*, R*) only: a small direct-mapped cache
+        // saves the powers of the alpha form for the few distinct contacts of most packings
+        uint64_t bm, br;
+        std::memcpy(&bm, &meff, sizeof bm);
+        std::memcpy(&br, &reff, sizeof br);
+        const uint64_t h = (bm ^ (br * 0x9E3779B97F4A7C15ULL) ^ ((uint64_t) (itype * 131 + jtype)
+                            * 0xC2B2AE3D27D4EB4FULL)) * 0x165667B19E3779F9ULL;
+        CoeffCache &e = coeff_cache[h >> (64 - COEFF_CACHE_BITS)];
+        if (e.itype != itype || e.jtype != jtype || e.meff != meff || e.reff != reff) {
+          e.cc = vc::contact_coeffs(lp, meff, reff);
+          e.itype = itype;
+          e.jtype = jtype;
+          e.meff = meff;
+          e.reff = reff;
+        }
+        cc = e.cc;
       }
 
       // history: this step's copy (written back only outside a run's setup)
@@ -301,7 +328,8 @@ void PairViscontact::compute(int eflag, int vflag)
           hc = h;
         }
       }
-      const double t_contact = t_now - hc[3];
+      // >= 0 even if the user resets the simulation time (reset_timestep ... time) mid-contact
+      const double t_contact = std::max(0.0, t_now - hc[3]);
 
       const double fn = vc::clamp_normal(
           vc::normal_force(delta, ddelta, t_contact, cc.k, cc.c0, cc.tau, lp.p), lp.clamp);
@@ -334,6 +362,66 @@ void PairViscontact::compute(int eflag, int vflag)
       if (evflag) ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fx, fy, fz, dx[0], dx[1], dx[2]);
     }
   }
+}
+
+/* One pair's forces for compute pair/local: returns 0 (no energy), fforce = F_n / r (so that
+   "force" = F_n, the clamped normal force), svector = F_t on i (x, y, z) and the overlap.  The
+   tangential force comes from the stored history as it is (not advanced). */
+double PairViscontact::single(int i, int j, int itype, int jtype, double rsq, double /*factor_coul*/,
+                              double /*factor_lj*/, double &fforce)
+{
+  for (int k = 0; k < single_extra; k++) svector[k] = 0.0;
+  fforce = 0.0;
+  double **x = atom->x, **v = atom->v, **omega = atom->omega;
+  const double radi = atom->radius[i], radj = atom->radius[j];
+  const double radsum = radi + radj;
+  if (rsq >= radsum * radsum) return 0.0;
+  const vc::LawParams &lp = params[itype][jtype];
+  const double r = std::sqrt(rsq);
+  const double rinv = 1.0 / r;
+  const double delta = radsum - r;
+  const double n[3] = {(x[i][0] - x[j][0]) * rinv, (x[i][1] - x[j][1]) * rinv,
+                       (x[i][2] - x[j][2]) * rinv};
+  const double vr[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
+  const double wr[3] = {radi * omega[i][0] + radj * omega[j][0],
+                        radi * omega[i][1] + radj * omega[j][1],
+                        radi * omega[i][2] + radj * omega[j][2]};
+  double vtr[3];
+  const double ddelta = -vc::relative_tangential_velocity(vr, wr, n, vtr);
+  const double mi = atom->rmass[i], mj = atom->rmass[j];
+  const double meff = mi * mj / (mi + mj);
+  const double reff = radi * radj / radsum;
+  const vc::ContactCoeffs cc = vc::contact_coeffs(lp, meff, reff);
+  const double dt = update->dt;
+  const double t_now = update->atime + (double) (update->ntimestep - update->atimestep) * dt;
+
+  // this contact's history in the pair's neighbour list (i's entry for j), if any
+  double hist[vc::HISTORY_SIZE] = {0.0, 0.0, 0.0, vc::contact_start_time(t_now, dt, delta, ddelta)};
+  if (fix_history && fix_history->ready()) {
+    const int *jlist = list->firstneigh[i];
+    const int jnum = list->numneigh[i];
+    const char *fl = fix_history->flags_of(i);
+    const double *hv = fix_history->values_of(i);
+    for (int jj = 0; jj < jnum; jj++) {
+      if ((jlist[jj] & NEIGHMASK) == j && fl[jj]) {
+        for (int k = 0; k < vc::HISTORY_SIZE; k++) hist[k] = hv[vc::HISTORY_SIZE * jj + k];
+        break;
+      }
+    }
+  }
+  const double fn = vc::clamp_normal(
+      vc::normal_force(delta, ddelta, std::max(0.0, t_now - hist[3]), cc.k, cc.c0, cc.tau, lp.p),
+      lp.clamp);
+  double ft[3] = {0.0, 0.0, 0.0};
+  if (lp.friction)
+    vc::mindlin_tangential(hist, n, vtr, dt, vc::mindlin_stiffness(lp.Gstar, reff, delta),
+                           lp.mu * std::fabs(fn), ft, false);
+  fforce = fn * rinv;
+  svector[0] = ft[0];
+  svector[1] = ft[1];
+  svector[2] = ft[2];
+  svector[3] = delta;
+  return 0.0;
 }
 
 /* ---- restart: the coefficients as given, per set type pair ---- */

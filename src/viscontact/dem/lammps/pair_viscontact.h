@@ -30,6 +30,7 @@ class PairViscontact : public Pair {
   void coeff(int, char **) override;
   void init_style() override;
   double init_one(int, int) override;
+  double single(int, int, int, int, double, double, double, double &) override;
   void write_restart(FILE *) override;
   void read_restart(FILE *) override;
   void write_restart_settings(FILE *) override;
@@ -46,6 +47,13 @@ class PairViscontact : public Pair {
   viscontact::LawParams **params;    // [ntypes+1][ntypes+1]
   double **Ein, **nuin;              // E and nu as given for (i, j)
   std::vector<double> maxrad;        // largest radius per type (cutoff)
+  struct CoeffCache {
+    int itype = -1, jtype = -1;
+    double meff = 0.0, reff = 0.0;
+    viscontact::ContactCoeffs cc{0.0, 0.0, 0.0};
+  };
+  static constexpr int COEFF_CACHE_BITS = 8;
+  std::vector<CoeffCache> coeff_cache;    // per-contact k, c0, tau by (types, m*, R*)
   int drop_history;
   int need_history;
   class FixViscontactHistory *fix_history;

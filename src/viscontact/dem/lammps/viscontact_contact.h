@@ -1,8 +1,9 @@
 /* viscontact_contact.h -- the one C++ expression of the viscontact contact model.
 
    Header-only, no LAMMPS includes: shared by `pair viscontact`, `fix viscontact/wall` and the
-   tiny ctypes kernel library that tests it against `viscontact.kernels`.  SI units throughout
-   (kg, m, s, N, Pa); LAMMPS `units si` is assumed by the callers.
+   tiny ctypes kernel library that tests it against `viscontact.kernels`.  Units are written
+   as SI (kg, m, s, N, Pa); every expression holds in any consistent unit system (LAMMPS `units
+   si`, `cgs`, `micro`, ...), with c0 in force time / length^(1+p) of that system.
 
    Normal law (SPEC sections 1-3, 9), one contact with overlap delta > 0:
 
@@ -208,6 +209,8 @@ inline double contact_start_time(double t_now, double dt, double delta, double d
      3. F_t = -k_t xi;
      4. if |F_t| > fn_limit: F_t *= fn_limit/|F_t| and xi = -F_t / k_t (slip), or F_t = 0 if
         xi = 0.
+   During a run's setup (LAMMPS recomputes the forces before the first step) steps 1-2 are
+   skipped (advance = false), as LAMMPS granular's history_update = 0.
    The force on body i is F_t; the same with the opposite sign acts on j.
 */
 

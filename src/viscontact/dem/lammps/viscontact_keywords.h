@@ -135,12 +135,14 @@ class LawKeywords {
     if (form_alpha) {
       if (!has_alpha) return "alpha A is missing (vref V needs it)";
       if (!has_vref) return "vref V (> 0, m/s) is missing (alpha A needs it)";
-      if (has_beta && !jian) return std::string("beta is only allowed with Jian, not ") + law_name(lp.law);
+      if (has_beta && !jian)
+        return std::string("beta is only allowed with Jian, not ") + law_name(lp.law);
       if (jian && !has_beta) return "damping Jian with alpha needs beta B (>= 0)";
       lp.by_alpha = true;
     } else {
       if (!has_c0) return "c0 C is missing (tau S needs it)";
-      if (has_tau && !jian) return std::string("tau is only allowed with Jian, not ") + law_name(lp.law);
+      if (has_tau && !jian)
+        return std::string("tau is only allowed with Jian, not ") + law_name(lp.law);
       if (jian && !has_tau) return "damping Jian with c0 needs tau S (>= 0, s)";
       lp.by_alpha = false;
     }
