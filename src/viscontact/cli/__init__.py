@@ -18,11 +18,11 @@ import sys
 import warnings
 from collections.abc import Sequence
 
-from . import audit, common, core, dem, fit, physical
+from . import audit, common, core, dem, demstudy, fit, physical
 
 __all__ = ["main", "COMMANDS", "UserError"]
 
-COMMANDS = (core, physical, fit, audit, dem)
+COMMANDS = (core, physical, fit, audit, dem, demstudy)
 
 
 class UserError(Exception):

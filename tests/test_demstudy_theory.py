@@ -1,0 +1,135 @@
+"""The DEM study's theory (viscontact.demstudy.theory) against independent closed forms."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from viscontact import impact
+from viscontact.demstudy import theory as th
+
+SIGMA, M, T0, PHI = 1e-3, 2e-6, 3e-9, 0.1
+N_DENS = 6 * PHI / (math.pi * SIGMA ** 3)
+
+
+def test_g2_is_carnahan_starling():
+    # g2 = (Z - 1) / (4 phi) with the Carnahan-Starling Z = (1 + phi + phi^2 - phi^3) / (1 - phi)^3
+    for phi in (0.01, 0.05, 0.1, 0.3, 0.5):
+        z = (1 + phi + phi ** 2 - phi ** 3) / (1 - phi) ** 3
+        assert th.enskog_g2(phi) == pytest.approx((z - 1) / (4 * phi), rel=1e-13)
+    assert th.enskog_g2(0.0) == 1.0
+    with pytest.raises(ValueError, match="phi"):
+        th.enskog_g2(1.0)
+
+
+def test_haff_rate_is_the_energy_loss_per_collision():
+    # d(3T/2)/dt = -(omega/2) (1 - e^2) (m/4) <g_n^2>_coll with <g_n^2>_coll = 4 T / m for a
+    # Maxwellian (flux-weighted normal relative speed): dT/dt = -(1 - e^2) omega T / 3
+    e = 0.8
+    tau0 = th.haff_tau0(e, n=N_DENS, sigma=SIGMA, m=M, T0=T0)
+    omega = th.collision_frequency(T0, n=N_DENS, sigma=SIGMA, m=M, phi=PHI)
+    rate_kinetic = -(1 - e * e) * omega * T0 / 3
+    h = tau0 * 1e-6
+    rate_haff = (th.haff_temperature(h, T0, tau0) - th.haff_temperature(-h, T0, tau0)) / (2 * h)
+    assert rate_haff == pytest.approx(rate_kinetic, rel=1e-8)
+    # phi defaults to pi n sigma^3 / 6
+    assert th.haff_tau0(e, n=N_DENS, sigma=SIGMA, m=M, T0=T0, phi=PHI) == pytest.approx(tau0)
+    assert th.haff_tau0(1.0, n=N_DENS, sigma=SIGMA, m=M, T0=T0) == math.inf
+
+
+def test_haff_law_solves_the_cooling_equation():
+    # dT/dt = -(1 - e^2) omega(T) T / 3 with omega ~ sqrt(T), integrated numerically
+    e = 0.9
+    tau0 = th.haff_tau0(e, n=N_DENS, sigma=SIGMA, m=M, T0=T0)
+
+    def rhs(_t, y):
+        return [-(1 - e * e) * th.collision_frequency(y[0], n=N_DENS, sigma=SIGMA, m=M,
+                                                      phi=PHI) * y[0] / 3]
+
+    t = np.linspace(0, 50 * tau0, 40)
+    sol = solve_ivp(rhs, (0, t[-1]), [T0], t_eval=t, rtol=1e-11, atol=0)
+    assert np.allclose(sol.y[0], th.haff_temperature(t, T0, tau0), rtol=1e-8)
+
+
+def test_late_exponents():
+    assert th.late_exponent("Ts") == pytest.approx(-2.0)
+    assert th.late_exponent("KK") == pytest.approx(-5.0 / 3.0)
+    assert th.late_exponent("Jian") == th.late_exponent("KK")
+    assert th.late_exponent("LH") == pytest.approx(-2.5)
+    assert th.late_exponent("Hunt") == pytest.approx(-1.0)
+    assert th.late_exponent("power", p=0.75) == pytest.approx(-2 / 1.4)
+    assert th.q_exponent("Li") == pytest.approx(0.6)
+
+
+def test_constant_e_sequence_is_geometric():
+    # Ts keeps e constant: v_k = v0 e^k, apex v^2 / (2 g), flights summing to 2 v0 e (1 - e^n) / (g (1 - e))
+    m, k = 0.1547, 1.688e6
+    c = 300.0  # any c: Ts's e does not depend on the speed
+    e = impact("Ts", m_eff=m, k_hertz=k, v=1.0, c=c).e
+    seq = th.bounce_sequence("Ts", m=m, k_hertz=k, c=c, height=0.15, h_min=1e-6)
+    v0 = math.sqrt(2 * 9.81 * 0.15)
+    v = seq.column("v_in")
+    assert v == pytest.approx(v0 * e ** np.arange(seq.n), rel=1e-8)
+    assert seq.column("apex") == pytest.approx(seq.column("v_out") ** 2 / (2 * 9.81))
+    assert seq.stopped == "apex" and (v0 * e ** (seq.n + 1)) ** 2 / (2 * 9.81) < 1e-6 <= seq.bounces[-1].apex
+    n = seq.n
+    flights = seq.column("flight").sum()
+    assert flights == pytest.approx(2 * v0 * e * (1 - e ** n) / (9.81 * (1 - e)), rel=1e-10)
+    assert flights < th.constant_e_rest_time(e, v0)
+    contact = sum(b.tc_overlap for b in seq.bounces)
+    assert seq.t_rest == pytest.approx(v0 / 9.81 + flights + contact, rel=1e-12)
+
+
+def test_elastic_ball_never_rests():
+    seq = th.bounce_sequence("KK", m=0.15, k_hertz=1.7e6, c=0.0, height=0.1, n_max=5)
+    assert seq.stopped == "n_max" and seq.n == 5
+    assert seq.column("apex") == pytest.approx(0.1, rel=1e-9)
+
+
+def test_series_scaling_is_the_continuum_of_the_recursion():
+    # v_{k+1} = v_k (1 - A v_k^q) for small A: the continuum solution within 0.5 %
+    for q, A in ((0.2, 2e-3), (0.6, 1e-3), (1.0, 1e-3), (0.0, 1e-3), (-0.2, 1e-3)):
+        v = [1.0]
+        for _ in range(3000):
+            v.append(v[-1] * (1 - A * v[-1] ** q))
+        k = np.arange(0, 3001, 300)
+        assert th.series_scaling(q, A, 1.0, k) == pytest.approx(np.array(v)[k], rel=5e-3), q
+
+
+def test_gravity_ratio_scaling():
+    r1, r2 = th.gravity_ratio(np.array([1.0, 0.1]), m=0.15, k_hertz=1.7e6)
+    assert r2 / r1 == pytest.approx(10 ** 1.2, rel=1e-12)
+
+
+def test_bad_input():
+    with pytest.raises(ValueError, match="exactly one"):
+        th.bounce_sequence("KK", m=0.1, k_hertz=1e6, c=1.0)
+    with pytest.raises(ValueError, match="restitution"):
+        th.haff_tau0(1.2, n=1.0, sigma=1.0, m=1.0, T0=1.0)
+
+
+def test_law_effect_anova():
+    # two-way analysis of variance (law, seed) of the collapse observables: a large law
+    # effect is found, a pure seed effect is not, and F equals the textbook formula
+    from viscontact.demstudy.flow import CollapseRun, FlowStudy, QUICK_FLOW
+
+    rng = np.random.default_rng(1)
+    laws, seeds = ["LH", "Ts", "KK"], [1, 2, 3, 4]
+    seed_eff = {1: 0.0, 2: 0.5, 3: -0.3, 4: 0.8}
+
+    def study(law_eff):
+        runs = [CollapseRun(m, s, 1.0, 2.0, 2.0 + law_eff[m] + seed_eff[s] + 0.05 * rng.normal(),
+                            20.0, 0.3, None) for m in laws for s in seeds]
+        return FlowStudy(QUICK_FLOW, runs)
+
+    F, p = study({"LH": 0.0, "Ts": 0.5, "KK": 1.0}).law_effect("runout")
+    assert p < 1e-6
+    s = study({"LH": 0.0, "Ts": 0.0, "KK": 0.0})
+    F, p = s.law_effect("runout")
+    Y = np.array([[next(r.runout for r in s.runs if r.model == m and r.seed == k) for k in seeds]
+                  for m in laws])
+    resid = Y - Y.mean(1, keepdims=True) - Y.mean(0, keepdims=True) + Y.mean()
+    F_ref = (4 * Y.mean(1).var(ddof=1)) / ((resid ** 2).sum() / 6)
+    assert F == pytest.approx(F_ref, rel=1e-12)
+    assert p > 1e-3
