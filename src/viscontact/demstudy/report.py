@@ -26,6 +26,7 @@ import numpy as np
 from ..laws import STUDY_MODELS
 from .. import domain
 from ..outputs import OutputDir
+from ..report.html import PAGE_CSS
 from ..report.tables import Column, Table
 from . import bounce as bounce_mod
 from . import flow as flow_mod
@@ -296,20 +297,7 @@ def all_tables(res: Results) -> list[Table]:
 
 
 # -------------------------------------------------------------------------------- page
-_CSS = """
-body { font-family: system-ui, sans-serif; max-width: 1250px; margin: 2em auto; padding: 0 1em;
-       color: #222; line-height: 1.45; }
-h1 { font-size: 1.6em; } h2 { margin-top: 2em; border-bottom: 1px solid #ccc; }
-table { border-collapse: collapse; margin: 1em 0; font-size: 0.9em; }
-caption { caption-side: top; text-align: left; padding-bottom: 0.4em; max-width: 60em; }
-th, td { border: 1px solid #ccc; padding: 0.2em 0.6em; }
-th { background: #f2f2f2; } td.n { text-align: right; font-variant-numeric: tabular-nums; }
-tbody tr:nth-child(even) { background: #fafafa; }
-figure { margin: 1.5em 0; } figure img { max-width: 100%; border: 1px solid #ddd; }
-figcaption { font-size: 0.95em; margin-top: 0.3em; }
-.note { background: #f6f8fa; border-left: 4px solid #888; padding: 0.6em 1em; }
-code { background: #f3f3f3; padding: 0 0.2em; }
-"""
+_CSS = PAGE_CSS + "code { background: #f3f3f3; padding: 0 0.2em; }\n"
 
 
 def _fig(name: str) -> str:

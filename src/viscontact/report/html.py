@@ -10,9 +10,10 @@ from ..study import PUBLISHED_E, StudyResults
 from .figures import FIGURES
 from .tables import Table
 
-__all__ = ["render_index"]
+__all__ = ["render_index", "PAGE_CSS"]
 
-_CSS = """
+#: the style of every report page (reproduce, dem-study)
+PAGE_CSS = """
 body { font-family: system-ui, sans-serif; max-width: 1250px; margin: 2em auto; padding: 0 1em;
        color: #222; line-height: 1.45; }
 h1 { font-size: 1.6em; } h2 { margin-top: 2em; border-bottom: 1px solid #ccc; }
@@ -59,7 +60,7 @@ def render_index(res: StudyResults, tables: list[Table], version: str) -> str:
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8">
 <title>viscontact report: damping terms of viscoelastic contact models</title>
-<style>{_CSS}</style></head>
+<style>{PAGE_CSS}</style></head>
 <body>
 <h1>Damping terms of viscoelastic contact force models: a reproduction</h1>
 <p>Reproduction of the tables and figures of B. Jian et al., Powder Technology 356 (2019)
