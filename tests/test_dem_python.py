@@ -220,8 +220,8 @@ def test_error_text_is_one_line():
     assert run_mod._one_line(msg) == ("ERROR: pair viscontact: nu must be in (-1, 0.5], got 0.7 "
                                       "(input line: pair_coeff * * hertz/material 1e7 0.7 damping KK)")
     tail = ["junk", "ERROR on proc 1: boom (src/x.cpp:1)", "Last input line: run 10", "Abort(1)"]
-    assert run_mod._error_from_output(tail, 1) == "ERROR on proc 1: boom (input line: run 10)"
-    assert run_mod._error_from_output(["", "segfault"], 139) == "LAMMPS exited with status 139: segfault"
+    assert run_mod.error_from_output(tail, 1) == "ERROR on proc 1: boom (input line: run 10)"
+    assert run_mod.error_from_output(["", "segfault"], 139) == "LAMMPS exited with status 139: segfault"
 
 
 def test_progress_follows_run_lines_and_thermo():

@@ -38,7 +38,8 @@ import numpy
 from .. import domain, outputs
 from .io import read_log
 
-__all__ = ["RunResult", "LammpsError", "run_input", "default_log_path", "COMMAND"]
+__all__ = ["RunResult", "LammpsError", "run_input", "default_log_path", "var_args", "error_from_output",
+           "COMMAND"]
 
 #: the owner recorded in the log's marker line (:func:`viscontact.outputs.text_marker`)
 COMMAND = "dem run"
@@ -85,7 +86,9 @@ def _one_line(message: str) -> str:
     return first
 
 
-def _error_from_output(tail: list[str], returncode: int) -> str:
+def error_from_output(tail: list[str], returncode: int) -> str:
+    """One line from the end of LAMMPS's output: its last ERROR (with the input line), or the
+    exit status and the last line printed."""
     for k in range(len(tail) - 1, -1, -1):
         if tail[k].lstrip().startswith("ERROR"):
             return _one_line("\n".join(tail[k:k + 3]))
@@ -159,7 +162,9 @@ def _wrapper(plugin: Path, input_path: Path) -> str:
     return f"{outputs.text_marker(COMMAND)}\nplugin load {q(plugin)}\ninclude {q(input_path)}\n"
 
 
-def _var_args(variables: Mapping[str, object] | None) -> list[str]:
+def var_args(variables: Mapping[str, object] | None) -> list[str]:
+    """``-var NAME VALUE`` arguments (floats by repr, so they round-trip); ValueError for a name
+    LAMMPS would not accept or a value that is not one word."""
     out: list[str] = []
     for name, value in (variables or {}).items():
         if not isinstance(name, str) or not _VAR_NAME.match(name):
@@ -250,7 +255,7 @@ def _run_mpi(wrapper: Path, log: Path, nproc: int, var_args: list[str], bar, cwd
         proc.wait()
         raise
     if rc != 0:
-        raise LammpsError(_error_from_output(list(tail), rc))
+        raise LammpsError(error_from_output(list(tail), rc))
     return rc
 
 
@@ -280,7 +285,7 @@ def run_input(
     src = src.resolve()
     log_path = Path(log).resolve() if log is not None else default_log_path(src)
     outputs.check_file(str(log_path), COMMAND, force, "--log")
-    var_args = _var_args(variables)
+    extra = var_args(variables)
     plugin = plugin_path(progress=lambda msg: print(msg, file=sys.stderr, flush=True))
     fd, tmp = tempfile.mkstemp(prefix="viscontact-dem-", suffix=".in")
     wrapper = Path(tmp)
@@ -293,12 +298,12 @@ def run_input(
             cwd = os.getcwd()
             os.chdir(src.parent)  # relative paths in the input; restored below
             try:
-                _run_inprocess(wrapper, log_path, var_args, bar, quiet)
+                _run_inprocess(wrapper, log_path, extra, bar, quiet)
             finally:
                 os.chdir(cwd)
             rc = 0
         else:
-            rc = _run_mpi(wrapper, log_path, np, var_args, bar, src.parent,
+            rc = _run_mpi(wrapper, log_path, np, extra, bar, src.parent,
                           echo=None if bar is not None or quiet else sys.stdout.write)
     finally:
         wrapper.unlink(missing_ok=True)

