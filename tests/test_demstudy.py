@@ -156,6 +156,7 @@ def test_report_files_and_progress(dem_report):
     for f in ("bounce.png", "gas_cooling.png", "collapse.png", "gas_snapshot.png"):
         assert (out / f).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "gas: cooling with KK" in proc.stderr and "flow: collapse" in proc.stderr
+    assert "gas: Haff's law, realisation 3 of 3" in proc.stderr
     assert not [p for p in out.parent.iterdir() if ".partial-" in p.name]
     # a dump OVITO reads: LAMMPS text dump with positions and radius
     head = (out / "gas-Ts.dump").read_text().splitlines()[:9]
@@ -163,13 +164,16 @@ def test_report_files_and_progress(dem_report):
 
 
 def test_haff_law_for_ts(dem_report):
-    # Ts keeps e constant: T(t) follows Haff's law.  Quick system: 2000 spheres, phi = 0.05,
-    # 4 tau0.  5 % is the tolerance; on this system the relative fluctuation of T is
-    # about sqrt(2 / (3 N)) = 1.8 % per sample, averaged over blocks of tau0/4 (several
-    # collision times each), plus the Enskog theory's own error at this density (1-2 %).
+    # Ts keeps e constant: T(t) follows Haff's law with tau0 from kinetic theory.  Quick check:
+    # 3 realisations of 2000 spheres, phi = 0.05, contacts of 0.005 mean free times, 4 tau0;
+    # their mean T / T_Haff - 1 per block of tau0/4 within the 5 %.  One realisation
+    # scatters by about 2 % (T fluctuates by sqrt(2 / (3 N)) = 1.8 % per sample), and soft
+    # contacts cool slower than hard spheres (about 2 % at this stiffness, measured).
     res = json.loads((dem_report[0] / "results.json").read_text())
     g = res["gas"]
     assert g["haff_window_tau0"] >= 4.0
+    assert len(g["haff_max_dev_each"]) >= 3 and g["haff_tc_ratio"] <= 0.005
+    assert max(g["haff_t"]) > 3.8
     assert g["haff_max_dev"] < 0.05
     rows = {r["law"]: r for r in _csv(dem_report[0] / "gas.csv")}
     ts = rows["Ts"]
@@ -177,6 +181,22 @@ def test_haff_law_for_ts(dem_report):
     # the test can fail: KK (e rises as the gas cools) departs from Haff's law by far more
     assert abs(float(rows["KK"]["T/T_Haff at end"]) - 1) > 0.1
     assert float(rows["LH"]["T/T_Haff at end"]) < 1 < float(rows["KK"]["T/T_Haff at end"])
+
+
+def test_every_law_follows_its_kinetic_theory(dem_report):
+    # Each law's T(t) against the kinetic theory of its own exact e(v) (quick gas: 2000
+    # spheres, 4 tau0, contacts of 0.01 mean free times: T lies 1 to 5 % above the theory,
+    # soft contacts and one realisation).  A law's theory and Haff's law (constant e) part by
+    # 16 % (Jian) to 95 % (Hunt) by 4 tau0, so 10 % tells them apart; the local exponents
+    # over the last half decade agree within 0.05 (laws other than KK and Jian differ by
+    # more than 0.1).
+    g = json.loads((dem_report[0] / "results.json").read_text())["gas"]
+    for m, r in g["laws"].items():
+        assert r["theory_max_dev"] < 0.10, m
+        assert abs(r["exponent"] - r["exponent_theory"]) < 0.05, m
+    rows = {r["law"]: r for r in _csv(dem_report[0] / "gas.csv")}
+    for m in ("LH", "KK", "Li", "Hunt", "Jian"):  # not Haff's law: the control
+        assert abs(float(rows[m]["T/T_Haff at end"]) - 1) > 0.12, m
 
 
 def test_haff_check_discriminates(tmp_path):

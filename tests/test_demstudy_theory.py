@@ -52,6 +52,87 @@ def test_haff_law_solves_the_cooling_equation():
     assert np.allclose(sol.y[0], th.haff_temperature(t, T0, tau0), rtol=1e-8)
 
 
+def test_mean_loss_closed_forms():
+    # constant e: 1 - e^2; 1 - e^2 = A v^q: A v_T^q Gamma(2 + q/2) (the energy-flux average),
+    # to the quadrature's stated 1e-4 (u^(q/2) is not smooth at u = 0)
+    assert th.mean_loss(lambda v: np.full_like(v, 0.8), 3.0) == pytest.approx(0.36, rel=1e-13)
+    for q in (-0.2, 0.2, 0.6, 1.0):
+        A, vt = 0.01, 1.7
+        got = th.mean_loss(lambda v, q=q: np.sqrt(1 - A * v ** q), vt)
+        assert got == pytest.approx(A * vt ** q * math.gamma(2 + q / 2), rel=1e-4), q
+    assert th.mean_loss(lambda v: np.sqrt(1 - 1e-4 * v * v), 1.7) == pytest.approx(
+        1e-4 * 1.7 ** 2 * 2, rel=1e-12)  # a loss polynomial in v^2: exact
+
+
+def test_kinetic_temperature_is_haff_for_constant_e():
+    e = 0.8
+    tau0 = th.haff_tau0(e, n=N_DENS, sigma=SIGMA, m=M, T0=T0, phi=PHI)
+    t = np.concatenate([[0.0], np.logspace(-3, 4, 60)]) * tau0
+    T = th.kinetic_temperature(lambda v: np.full_like(v, e), t, T0=T0, n=N_DENS, sigma=SIGMA,
+                               m=M, phi=PHI)
+    assert np.allclose(T, th.haff_temperature(t, T0, tau0), rtol=1e-9, atol=0)
+    # a different e is seen
+    T9 = th.kinetic_temperature(lambda v: np.full_like(v, 0.9), t, T0=T0, n=N_DENS,
+                                sigma=SIGMA, m=M, phi=PHI)
+    assert abs(T9[-1] / T[-1] - 1) > 1
+
+
+@pytest.mark.parametrize("q", [-0.2, 0.2, 0.6, 1.0])
+def test_kinetic_temperature_power_law_closed_form(q):
+    # 1 - e^2 = A v^q: dT/dt = -C T^((3+q)/2), T = T0 (1 + t / tau_q)^(-2/(1+q)),
+    # C = (4 sqrt(pi)/3) g2 n sigma^2 m^(-1/2) A (2 / sqrt(m))^q Gamma(2 + q/2)
+    loss0 = 0.05  # at v_T of T0; the loss must stay below 1 at every node and time
+    A = loss0 / (2 * math.sqrt(T0 / M)) ** q
+    C = (4 * math.sqrt(math.pi) / 3) * th.enskog_g2(PHI) * N_DENS * SIGMA ** 2 / math.sqrt(M) \
+        * A * (2 / math.sqrt(M)) ** q * math.gamma(2 + q / 2)
+    tau_q = 2 / ((1 + q) * C * T0 ** ((1 + q) / 2))
+    t = np.logspace(-2, 3 if q > 0 else 1.5, 40) * tau_q
+
+    def e_of_v(v):
+        loss = A * v ** q
+        assert np.all(loss < 1)  # the closed form holds only without clipping
+        return np.sqrt(1 - loss)
+
+    T = th.kinetic_temperature(e_of_v, t, T0=T0, n=N_DENS, sigma=SIGMA, m=M, phi=PHI)
+    exact = T0 * (1 + t / tau_q) ** (-2 / (1 + q))
+    assert np.allclose(T, exact, rtol=1e-4, atol=0)  # the quadrature's accuracy
+    if q > 0:  # by 1000 tau_q the local exponent is within 0.3 % of -2 / (1 + q)
+        slope, _ = th.log_slope(t, T, t[-1] / 10)
+        assert slope == pytest.approx(-2 / (1 + q), rel=5e-3)
+
+
+def test_kk_gas_approaches_five_thirds():
+    # KK's exact e(v) (the solver, not its small-damping series): the local exponent of the
+    # kinetic theory leaves Haff's -2 behind and approaches -5/3 as e -> 1 at late times
+    from viscontact import alpha_from_e, damping_coefficient, velocity_sweep
+
+    m_eff, k, v0 = 1e-6, 1e6, 500.0  # fast enough for ten decades of speed inside the domain
+    c = damping_coefficient("KK", alpha_from_e("KK", 0.8), m_eff=m_eff, k_hertz=k, v=v0)
+    speeds = np.geomspace(1e-6, 1e4, 400)
+    ln_v = np.log(speeds)
+    e = np.asarray(velocity_sweep("KK", speeds, m_eff=m_eff, k_hertz=k, c=c).e)
+    assert np.interp(math.log(v0), ln_v, e) == pytest.approx(0.8, abs=1e-6)
+    assert e[0] > 0.99  # e -> 1 at low speed
+
+    def e_of_v(v):
+        return np.interp(np.log(v), ln_v, e)
+
+    m = 2 * m_eff
+    T_0 = m * (v0 / 2) ** 2  # v_T = 2 sqrt(T0 / m) = v0
+    tau0 = th.haff_tau0(0.8, n=N_DENS, sigma=SIGMA, m=m, T0=T_0, phi=PHI)
+    t = np.logspace(-2, 7, 300) * tau0
+    T = th.kinetic_temperature(e_of_v, t, T0=T_0, n=N_DENS, sigma=SIGMA, m=m, phi=PHI)
+    slopes = [th.log_slope(t, T, a * tau0, 3 * a * tau0)[0] for a in (1e2, 1e4, 1e6 / 3)]
+    assert all(abs(s + 5 / 3) < 0.03 for s in slopes), slopes
+    assert abs(slopes[-1] + 5 / 3) < abs(slopes[0] + 5 / 3)  # closer and closer
+
+
+def test_log_slope():
+    t = np.logspace(0, 2, 50)
+    assert th.log_slope(t, 3 * t ** -1.7, 10)[0] == pytest.approx(-1.7, rel=1e-12)
+    assert math.isnan(th.log_slope(t[:3], t[:3], 0)[0])
+
+
 def test_late_exponents():
     assert th.late_exponent("Ts") == pytest.approx(-2.0)
     assert th.late_exponent("KK") == pytest.approx(-5.0 / 3.0)

@@ -35,7 +35,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Run three DEM studies with LAMMPS and the viscontact plugin, every law "
         "calibrated exactly to the same e: a lacrosse ball bouncing to rest (against the exact "
         "sequence of single collisions), a freely cooling granular gas (against Haff's law and "
-        "the late-time exponents of kinetic theory) and the collapse of a granular column "
+        "the kinetic theory of each law's exact e(v)) and the collapse of a granular column "
         "(run-out and deposit angle over several seeds); write tables, figures, dumps and "
         "index.html into DIR.")
     p.add_argument("--out", default="viscontact-dem-study", metavar="DIR",

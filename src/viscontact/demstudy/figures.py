@@ -30,11 +30,15 @@ CAPTIONS = {
                          "speeds fall as the power law v_k ~ k^(-1/q) that 1 - e ~ v^q predicts "
                          "(dashed: the continuum solution v_k = (v_0^-q + q A k)^(-1/q) with A "
                          "from the last bounce).",
-    "gas_cooling.png": "Freely cooling gas. Left: T/T0 against t/tau0 for every law, Haff's law "
-                       "(black dashed) and the late-time power laws t^(-2/(1+q)) of theory "
-                       "(dotted, through each law's last point). Middle: T/T_Haff - 1 for Ts "
-                       "(blocks of tau0/4; grey band: 5 %). Right: homogeneity (density variance "
-                       "ratio, solid; flow energy ratio, dashed): 1 for a homogeneous gas.",
+    "gas_cooling.png": "Freely cooling gas. Top left: T/T0 against t/tau0 for every law "
+                       "(solid) and the kinetic theory of the same law's exact e(v) (dashed). "
+                       "Top right: the local exponent d ln T / d ln t (DEM: slopes over a third "
+                       "of a decade; theory dashed) and each law's asymptote -2/(1+q) (dotted): "
+                       "KK and Jian approach -5/3, Li -1.25, Hunt -1; Ts is Haff's -2. Bottom "
+                       "left: Haff's law for Ts, T/T_Haff - 1 of each realisation (thin) and "
+                       "their mean (the check; grey band: 5 %). Bottom right: homogeneity "
+                       "(density variance ratio, solid; flow energy ratio, dashed): 1 for a "
+                       "homogeneous gas.",
     "gas_snapshot.png": "The gas at the end of the run with Ts (left) and KK (right): spheres "
                         "coloured by speed over the rms speed (open the dumps gas-*.dump in OVITO "
                         "or ParaView for every law and time).",
@@ -136,37 +140,48 @@ def _bounce_series(res, path: Path) -> None:
 
 
 def _gas(res, path: Path) -> None:
-    from .gas import haff_deviation
+    from .gas import local_exponents
 
     g = res.gas
     s = g.setup
     tau0 = s.tau0()
-    fig, axes = plt.subplots(1, 3, figsize=(17, 5))
-    ax = axes[0]
-    x_all = np.logspace(-2, math.log10(max(r.t[-1] for r in g.runs.values()) / tau0), 200)
+    fig, axes = plt.subplots(2, 2, figsize=(14, 10))
+    ax = axes[0, 0]
     for m, r in g.runs.items():
         col = LAW_COLORS[m]
-        ax.plot(r.t / tau0, r.T / s.T0, "-", color=col, lw=1.5,
-                label=f"{m}: {r.exponent:.2f} (theory {theory.late_exponent(m):.2f})")
-        a = theory.late_exponent(m)
-        xl = np.logspace(math.log10(max(r.t[-1] / tau0 / 4, 0.5)), math.log10(r.t[-1] / tau0), 20)
-        ax.plot(xl, r.T[-1] / s.T0 * (xl / (r.t[-1] / tau0)) ** a, ":", color=col, lw=1.2)
-    ax.plot(x_all, theory.haff_temperature(x_all * tau0, 1.0, tau0), "k--", lw=1, label="Haff (Ts)")
+        ax.plot(r.t / tau0, r.T / s.T0, "-", color=col, lw=1.5, label=m)
+        ax.plot(r.t / tau0, r.T_theory / s.T0, "--", color=col, lw=1)
     ax.set(xscale="log", yscale="log", xlabel="t / tau0", ylabel="T / T0",
-           title=f"{s.n} spheres, phi = {s.phi:g}, e = {s.e:g} at v_ref")
+           title=f"{s.n} spheres, phi = {s.phi:g}, e = {s.e:g} at v_ref (dashed: kinetic theory)")
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8, title="late-time exponent")
-    ax = axes[1]
-    if "Ts" in g.runs:
-        r = g.runs["Ts"]
-        xs, dev = haff_deviation(r.t, r.T, s.T0, tau0, min(s.t_end_tau0, 10.0))
-        ax.axhspan(-5, 5, color="0.9")
-        ax.plot(xs, dev * 100, "s-", color=LAW_COLORS["Ts"], ms=4, label="Ts")
-        ax.axvline(g.haff_window, color="0.5", lw=0.8, ls=":")
+    ax.legend(fontsize=8)
+    ax = axes[0, 1]
+    for m, r in g.runs.items():
+        col = LAW_COLORS[m]
+        tc, k = local_exponents(r.t, r.T)
+        ax.plot(tc / tau0, k, "o-", color=col, ms=3, lw=1,
+                label=f"{m}: {r.slope:.2f} (theory {r.slope_theory:.2f}, "
+                      f"asymptote {theory.late_exponent(m):.2f})")
+        tc, k = local_exponents(r.t, r.T_theory)
+        ax.plot(tc / tau0, k, "--", color=col, lw=1)
+        ax.axhline(theory.late_exponent(m), color=col, lw=0.8, ls=":")
+    ax.set(xscale="log", xlabel="t / tau0", ylabel="d ln T / d ln t",
+           title="local cooling exponent")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7, title="last half decade")
+    ax = axes[1, 0]
+    ax.axhspan(-5, 5, color="0.9")
+    if g.haff_dev.size:
+        for d in g.haff_dev:
+            ax.plot(g.haff_t, d * 100, "-", color=LAW_COLORS["Ts"], lw=0.8, alpha=0.6)
+        ax.plot(g.haff_t, g.haff_mean_dev * 100, "s-", color=LAW_COLORS["Ts"], ms=4,
+                label=f"mean of {len(g.haff_dev)} realisations ({g.haff.n} spheres, contact "
+                      f"{g.haff.tc_ratio:g} mean free times)")
+        ax.legend(fontsize=8)
     ax.axhline(0, color="k", lw=0.8)
     ax.set(xlabel="t / tau0", ylabel="T / T_Haff - 1 [%]", title="Ts against Haff's law")
     ax.grid(alpha=0.3)
-    ax = axes[2]
+    ax = axes[1, 1]
     for m, r in g.runs.items():
         col = LAW_COLORS[m]
         ax.plot(np.maximum(r.dump_t / tau0, 1e-2), r.density_ratio, "-o", color=col, ms=3, label=m)
