@@ -40,7 +40,7 @@ def main() -> None:
                             seed=a.seed, e=a.e, phi=a.phi,
                             steps_per_contact=a.steps_per_contact)
     with tempfile.TemporaryDirectory() as work:
-        run = gas.run_gas(Path(work), s, models=("Ts",), np_=a.np).runs["Ts"]
+        run = gas.run_gas(Path(work), s, models=("Ts",), np_=a.np, haff=None).runs["Ts"]
     _, dev = gas.haff_deviation(run.t, run.T, s.T0, s.tau0(), 4.0)
     print(f"np={a.np} n={a.n} e={a.e} phi={a.phi} tc_ratio={a.tc_ratio} seed={a.seed}: T(0)/T0 - 1 = "
           f"{run.T[0] / s.T0 - 1:+.4f}; max |T/T_Haff - 1| over 4 tau0 = {np.max(np.abs(dev)):.4f}")

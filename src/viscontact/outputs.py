@@ -199,10 +199,8 @@ def _write_file(path: str, command: str, force: bool, option: str, suffix: str |
         check_file(path, command, force, option, suffix)  # again: the work may have taken long
         try:
             os.link(tmp, target)  # never replaces a file that appeared meanwhile
-        except FileExistsError:
-            os.replace(tmp, target)  # ours, checked just now
-        except OSError:
-            os.replace(tmp, target)  # no hard links on this filesystem
+        except OSError:  # the target exists (ours, checked just now), or no hard links here
+            os.replace(tmp, target)
     finally:
         tmp.unlink(missing_ok=True)
     return target

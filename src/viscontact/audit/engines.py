@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from .. import domain
 from ..collision import check_end
 from ..dimensional import ContactPair
+from ..laws import check_finite_nonneg
 from .formulas import (
     antypov_elliott_alpha, antypov_elliott_inverse, delivered_e, exact_alpha,
     missing_alpha_reason, tsuji_polynomial, unreachable_reason, _check_target_e,
@@ -82,13 +83,6 @@ class Preset:
             raise ValueError(f"{self.engine} {self.option} has no clamp switch: its contact always "
                              f"ends at zero {self.end_clamped if self.clamp_default else self.end_unclamped}")
         return self.end_clamped if c else self.end_unclamped
-
-
-def _positive_or_zero(name: str, value: float) -> float:
-    v = domain.check_number(name, value)
-    if not (math.isfinite(v) and v >= 0):
-        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
-    return v
 
 
 def _need(phys: ContactPair | None, what: str) -> ContactPair:
@@ -156,17 +150,17 @@ def _lammps(option: str, model: str, name: str, units: str, to_a, from_a, mappin
 
 _REGISTERED: tuple[Preset, ...] = (
     _lammps("velocity", "LH", "eta_n0", "kg/s",
-            lambda eta, p: _positive_or_zero("eta_n0", eta) * _need(p, "velocity").T / p.m_eff,
+            lambda eta, p: check_finite_nonneg("eta_n0", eta) * _need(p, "velocity").T / p.m_eff,
             lambda a, p: a * _need(p, "velocity").m_eff / p.T,
             "hertz/material + damping velocity: F_damp = -eta_n0 v_n (constant dashpot) => LH law, "
             "alpha = eta_n0 T / m* (depends on v through T)", physical=True),
     _lammps("mass_velocity", "LH", "eta_n0", "1/s",
-            lambda eta, p: _positive_or_zero("eta_n0", eta) * _need(p, "mass_velocity").T,
+            lambda eta, p: check_finite_nonneg("eta_n0", eta) * _need(p, "mass_velocity").T,
             lambda a, p: a / _need(p, "mass_velocity").T,
             "damping mass_velocity: F_damp = -eta_n0 m* v_n => LH law, alpha = eta_n0 T "
             "(depends on v through T)", physical=True),
     _lammps("viscoelastic", "KK", "eta_n0", "1/(m s)",
-            lambda eta, p: (_positive_or_zero("eta_n0", eta) * _need(p, "viscoelastic").m_eff
+            lambda eta, p: (check_finite_nonneg("eta_n0", eta) * _need(p, "viscoelastic").m_eff
                             * math.sqrt(p.r_eff) / (p.k_hertz * p.T)),
             lambda a, p: a * _need(p, "viscoelastic").k_hertz * p.T / (p.m_eff * math.sqrt(p.r_eff)),
             "damping viscoelastic: F_damp = -eta_n0 m* a v_n, a = sqrt(R* delta) => KK law, "

@@ -204,13 +204,11 @@ def _scatter3d(ax, x, y, z, c, size, cmap, title, label):
 
 
 def _gas_snapshot(res, path: Path) -> None:
-    from ..dem.io import read_dump
-
     g = res.gas
     laws = [m for m in ("Ts", "KK") if m in g.runs] or list(g.runs)[:1]
     fig = plt.figure(figsize=(7 * len(laws), 6))
     for i, m in enumerate(laws):
-        fr = read_dump(g.runs[m].dump)[-1]
+        fr = g.runs[m].final
         v = np.sqrt(fr["vx"] ** 2 + fr["vy"] ** 2 + fr["vz"] ** 2)
         ax = fig.add_subplot(1, len(laws), i + 1, projection="3d")
         size = 3e4 / max(len(v), 1)

@@ -188,6 +188,7 @@ class GasRun:
     wall_s: float = 0.0
     steps: int = 0
     fit_from: float = math.nan  # start of the late-time fit [s]
+    final: dict[str, np.ndarray] = field(repr=False, default_factory=dict)  # last dump's columns
 
     @property
     def theory_dev(self) -> float:
@@ -295,16 +296,28 @@ def local_exponents(t: np.ndarray, T: np.ndarray, width: float = 1.0 / 3.0, poin
     return centres, k
 
 
+def _block_deviations(t: np.ndarray, T: np.ndarray, T_ref: np.ndarray, edges: np.ndarray,
+                      min_samples: int) -> tuple[np.ndarray, np.ndarray]:
+    """<T> / <T_ref> - 1 over the samples in each block [edges[i], edges[i+1]) holding at least
+    ``min_samples`` samples (both averaged over the same samples): (block centres, deviations)."""
+    mids, dev = [], []
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        sel = (t >= lo) & (t < hi)
+        if sel.sum() >= min_samples:
+            mids.append(0.5 * (lo + hi))
+            dev.append(T[sel].mean() / T_ref[sel].mean() - 1.0)
+    return np.array(mids), np.array(dev)
+
+
 def _max_block_dev(t: np.ndarray, T: np.ndarray, T_ref: np.ndarray, blocks: int = 20) -> float:
     """Largest |<T> / <T_ref> - 1| over ``blocks`` blocks evenly spaced in ln t (t > 0)."""
     if not len(T_ref):
         return math.nan
-    pos = t > 0
-    edges = np.linspace(math.log(t[pos][0]), math.log(t[-1]), blocks + 1)
-    idx = np.clip(np.searchsorted(edges, np.log(t[pos]), side="right") - 1, 0, blocks - 1)
-    dev = [T[pos][idx == b].mean() / T_ref[pos][idx == b].mean() - 1.0
-           for b in range(blocks) if np.any(idx == b)]
-    return float(np.max(np.abs(dev))) if dev else math.nan
+    pos = t[t > 0]
+    edges = np.geomspace(pos[0], pos[-1], blocks + 1)
+    edges[-1] = np.nextafter(edges[-1], np.inf)  # the last sample belongs to the last block
+    _, dev = _block_deviations(t, T, T_ref, edges, 1)
+    return float(np.max(np.abs(dev))) if len(dev) else math.nan
 
 
 def haff_deviation(t: np.ndarray, T: np.ndarray, T0: float, tau0: float, window: float,
@@ -312,14 +325,8 @@ def haff_deviation(t: np.ndarray, T: np.ndarray, T0: float, tau0: float, window:
     """T / T_Haff - 1 averaged over blocks of ``block`` tau0 up to ``window`` tau0 (both the
     measured and Haff's T averaged over the same samples): (block centres / tau0, deviations)."""
     edges = np.arange(0.0, window + 1e-12, block) * tau0
-    mids, dev = [], []
-    th_T = theory.haff_temperature(t, T0, tau0)
-    for a, b in zip(edges[:-1], edges[1:]):
-        s = (t >= a) & (t < b)
-        if s.sum() >= 2:
-            mids.append(0.5 * (a + b) / tau0)
-            dev.append(T[s].mean() / th_T[s].mean() - 1.0)
-    return np.array(mids), np.array(dev)
+    mids, dev = _block_deviations(t, T, theory.haff_temperature(t, T0, tau0), edges, 2)
+    return mids / tau0, dev
 
 
 def _prepare(workdir: Path, s: GasSetup, np_: int) -> tuple[int, float]:
@@ -335,8 +342,9 @@ def _prepare(workdir: Path, s: GasSetup, np_: int) -> tuple[int, float]:
 
 
 def _cool(workdir: Path, s: GasSetup, model: str, np_: int,
-          step: Callable[[str], None] | None, label: str) -> GasRun:
-    """Cool the prepared gas of ``workdir`` with one law in ``workdir/gas-MODEL``: T(t)."""
+          step: Callable[[str], None] | None, label: str) -> tuple[GasRun, dict[str, np.ndarray]]:
+    """Cool the prepared gas of ``workdir`` with one law in ``workdir/gas-MODEL``: the run
+    with T(t), and the thermo columns of its log."""
     import time
 
     law = LawSpec(model, s.e, s.vref, s.beta if model == "Jian" else None)
@@ -356,14 +364,7 @@ def _cool(workdir: Path, s: GasSetup, model: str, np_: int,
     t, keep = np.unique(th["Time"], return_index=True)  # a segment's first line repeats the last
     run = GasRun(model, law, t, th["v_Tg"][keep], d / f"gas-{model}.dump", wall_s=wall,
                  steps=int(th["Step"][-1]))
-    run.dump_t = _step_times(th, np.array(_dump_steps(run.dump)))
-    return run
-
-
-def _dump_steps(path: Path) -> list[int]:
-    """Time steps of the frames of a LAMMPS text dump (the line after each ITEM: TIMESTEP)."""
-    lines = path.read_text().splitlines()
-    return [int(lines[i + 1]) for i, ln in enumerate(lines) if ln.startswith("ITEM: TIMESTEP")]
+    return run, th
 
 
 def run_haff(workdir: Path, setup: GasSetup, check: HaffCheck, *, np_: int = 1,
@@ -378,8 +379,8 @@ def run_haff(workdir: Path, setup: GasSetup, check: HaffCheck, *, np_: int = 1,
         if step:
             step(f"gas: Haff's law, realisation {k + 1} of {check.realisations}")
         nequil, _ = _prepare(d, s, np_)
-        run = _cool(d, s, "Ts", np_, step,
-                    f"gas: Haff's law, realisation {k + 1} of {check.realisations}")
+        run, _ = _cool(d, s, "Ts", np_, step,
+                       f"gas: Haff's law, realisation {k + 1} of {check.realisations}")
         mids, dev = haff_deviation(run.t, run.T, s.T0, s.tau0(), check.window)
         devs.append(dev)
         steps += float(nequil + run.steps) * s.n
@@ -389,9 +390,10 @@ def run_haff(workdir: Path, setup: GasSetup, check: HaffCheck, *, np_: int = 1,
 
 def run_gas(workdir: Path, setup: GasSetup = QUICK_GAS, *, models: tuple[str, ...] = STUDY_MODELS,
             np_: int = 1, step: Callable[[str], None] | None = None,
-            haff: HaffCheck | None = QUICK_HAFF) -> GasStudy:
+            haff: HaffCheck | None = None) -> GasStudy:
     """Prepare the thermalised gas once, cool it with every law; analyse T(t) and the dumps
-    against the kinetic theory of each law; then the realisations of Haff's check (Ts)."""
+    against the kinetic theory of each law; then, if ``haff`` is given, the realisations of
+    Haff's check (Ts)."""
     workdir.mkdir(parents=True, exist_ok=True)
     s = setup
     if step:
@@ -402,10 +404,12 @@ def run_gas(workdir: Path, setup: GasSetup = QUICK_GAS, *, models: tuple[str, ..
     for m in models:
         if step:
             step(f"gas: cooling with {m}")
-        run = _cool(workdir, s, m, np_, step, f"gas: cooling with {m}")
+        run, th = _cool(workdir, s, m, np_, step, f"gas: cooling with {m}")
         steps_total += run.steps
+        frames = read_dump(run.dump)
+        run.dump_t = _step_times(th, np.array([f.step for f in frames]))
         dr, fr = [], []
-        for f in read_dump(run.dump):
+        for f in frames:
             cols = f.columns
             x = np.stack([cols["x"], cols["y"], cols["z"]], 1)
             v = np.stack([cols["vx"], cols["vy"], cols["vz"]], 1)
@@ -413,6 +417,7 @@ def run_gas(workdir: Path, setup: GasSetup = QUICK_GAS, *, models: tuple[str, ..
             dr.append(dn / dens0)
             fr.append(fl)
         run.density_ratio, run.flow_ratio = np.array(dr), np.array(fr)
+        run.final = frames[-1].columns
         # kinetic theory of this law's e(v) down to speeds well below the coldest sample
         v_low = s.vref * math.sqrt(max(float(np.min(run.T)) / s.T0, 1e-12)) * 0.05
         e_of_v = restitution_of_speed(run.law, s, v_low, 12.0 * s.vref)

@@ -28,6 +28,7 @@ from .. import domain
 from ..outputs import OutputDir
 from ..report.html import PAGE_CSS
 from ..report.tables import Column, Table
+from ..report.tables import _fixed as _f, _sig as _g, _text as _t
 from . import bounce as bounce_mod
 from . import flow as flow_mod
 from . import gas as gas_mod
@@ -110,18 +111,6 @@ def run_all(cfg: StudyConfig, work: Path, np_: int, step) -> Results:
 
 
 # ------------------------------------------------------------------------------ tables
-def _f(n: int):
-    return lambda x: "" if x is None or (isinstance(x, float) and not math.isfinite(x)) else f"{x:.{n}f}"
-
-
-def _g(n: int):
-    return lambda x: "" if x is None or (isinstance(x, float) and not math.isfinite(x)) else f"{x:.{n}g}"
-
-
-def _t(x) -> str:
-    return "" if x is None else str(x)
-
-
 def _pm(n: int):
     def fmt(x) -> str:
         m, s = x
@@ -243,7 +232,7 @@ def gas_table(res: Results) -> Table:
             Column("us per particle-step", _g(4), "us per particle-step", _g(3))]
     rows = []
     for m, r in g.runs.items():
-        p = 0.5 if m == "Jian" else {"LH": 0.0, "Ts": 0.25, "KK": 0.5, "Li": 1.0, "Hunt": 1.5}[m]
+        p = theory.damping_exponent(m)
         haff_end = float(r.T[-1] / theory.haff_temperature(r.t[-1], s.T0, tau0))
         cost = r.wall_s / max(1, r.steps * s.n) * 1e6
         rows.append([m, p, theory.q_exponent(m), theory.late_exponent(m),
@@ -428,11 +417,11 @@ def _results_json(res: Results) -> dict:
     out: dict = {"quick": res.cfg.quick, "np": res.np_, "seconds": res.seconds, "bounce": [],
                  "gas": {}, "flow": {}}
     for c in res.bounces:
+        de, dv, _, _ = _isolated_error(c)
         out["bounce"].append({"ball": c.ball, "law": c.model, "bounces_dem": c.dem.n,
                               "t_rest_dem": c.dem.t_rest, "bounces_exact": c.exact.n,
-                              "t_rest_exact": c.exact.t_rest,
-                              "check_max_de": _isolated_error(c)[0],
-                              "check_max_dv": _isolated_error(c)[1]})
+                              "t_rest_exact": c.exact.t_rest, "check_max_de": de,
+                              "check_max_dv": dv})
     if g is not None:
         out["gas"] = {"n": g.setup.n, "phi": g.setup.phi, "e": g.setup.e, "tau0": g.setup.tau0(),
                       "tc_ratio": g.setup.tc_ratio,

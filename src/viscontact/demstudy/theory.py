@@ -35,7 +35,8 @@ from ..dimensional import STANDARD_GRAVITY, check_positive, hertz_limit
 from ..laws import lookup, resolve
 
 __all__ = [
-    "enskog_g2", "haff_tau0", "haff_temperature", "collision_frequency", "q_exponent",
+    "enskog_g2", "haff_tau0", "haff_temperature", "collision_frequency", "damping_exponent",
+    "q_exponent",
     "mean_loss", "kinetic_temperature", "log_slope",
     "late_exponent", "Bounce", "BounceSequence", "bounce_sequence", "series_scaling",
     "constant_e_rest_time", "gravity_ratio",
@@ -153,15 +154,20 @@ def log_slope(t, T, t_from: float, t_to: float | None = None) -> tuple[float, fl
     return float(slope), float(math.sqrt(cov[0, 0]))
 
 
+def damping_exponent(model: str, p: float | None = None) -> float:
+    """The law's damping exponent p (F_d ~ delta^p delta'); ``p`` only for ``power``.  Jian
+    has KK's p = 1/2 (its relaxation factor tends to 1 at low speed)."""
+    law = lookup(model)
+    return resolve(model, beta=0.0 if law.needs_beta else None, p=p).p
+
+
 def q_exponent(model: str, p: float | None = None) -> float:
     """q = (4 p - 1) / 5: 1 - e grows like v^q for small dissipation (Ts: 0, KK: 1/5).
 
     Jian's relaxation factor tends to 1 at low speed (t_c grows, tau is fixed), so its late
     behaviour is that of KK (p = 1/2).
     """
-    law = lookup(model)
-    pp = resolve(model, beta=0.0 if law.needs_beta else None, p=p).p
-    return (4.0 * pp - 1.0) / 5.0
+    return (4.0 * damping_exponent(model, p) - 1.0) / 5.0
 
 
 def late_exponent(model: str, p: float | None = None) -> float:

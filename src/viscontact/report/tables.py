@@ -21,12 +21,17 @@ __all__ = ["Table", "table1", "table2", "table4", "comparison", "all_tables", "b
 Fmt = Callable[[Any], str]
 
 
+def _missing(x: Any) -> bool:
+    """No value to print: None, or a float that is not finite."""
+    return x is None or (isinstance(x, float) and not math.isfinite(x))
+
+
 def _fixed(n: int) -> Fmt:
-    return lambda x: "" if x is None else f"{x:.{n}f}"
+    return lambda x: "" if _missing(x) else f"{x:.{n}f}"
 
 
 def _sig(n: int) -> Fmt:
-    return lambda x: "" if x is None else f"{x:.{n}g}"
+    return lambda x: "" if _missing(x) else f"{x:.{n}g}"
 
 
 def _text(x: Any) -> str:

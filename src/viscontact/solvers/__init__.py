@@ -14,6 +14,7 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
+from .._lazy import lazy_exports
 from ..laws import LawParams
 from .base import Contact, SolveFn, END_CRITERIA, T_MAX, DEFAULT_RTOL
 
@@ -26,16 +27,6 @@ _LAZY = {
     "batch": ("BATCH_RTOL", "BatchResult", "solve_batch", "solve_batch_one"),
     "reference": ("solve_reference",),
 }
-_MODULE_OF = {name: module for module, names in _LAZY.items() for name in names}
-
-
-def __getattr__(name: str) -> Any:
-    module = _MODULE_OF.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{module}", __name__), name)
-    globals()[name] = value
-    return value
 
 
 def _solver(module: str, name: str) -> SolveFn:
@@ -59,5 +50,7 @@ SOLVERS: dict[str, SolveFn] = {
 
 __all__ = [
     "Contact", "SolveFn", "SOLVERS", "END_CRITERIA", "T_MAX", "DEFAULT_RTOL", "BATCH_RTOL",
-    "BatchResult", "solve_batch",
+    "BatchResult", "solve_batch", "solve_batch_one", "solve_reference",
 ]
+
+__getattr__, __dir__ = lazy_exports(__name__, _LAZY, globals())

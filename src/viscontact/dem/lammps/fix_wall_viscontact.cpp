@@ -24,18 +24,6 @@ const char *const SYNTAX =
     "fix ID GROUP viscontact/wall (xplane|yplane|zplane LO HI | zcylinder R) "
     "wall_material (E NU | rigid) damping LAW ... tangential (none | mindlin MU) [particle E NU]";
 
-// E > 0 finite, nu in (-1, 0.5]: the same domain as pair viscontact / hertz/material
-std::string parse_material(const std::string &who, const std::string &Etext,
-                           const std::string &nutext, double &E, double &nu)
-{
-  std::string err = viscontact::parse_number(who + " E", Etext, true, E);
-  if (!err.empty()) return err;
-  char *end = nullptr;
-  nu = std::strtod(nutext.c_str(), &end);
-  if (nutext.empty() || *end != '\0' || !(nu > -1.0 && nu <= 0.5))
-    return who + " nu must be in (-1, 0.5], got '" + nutext + "'";
-  return "";
-}
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
@@ -114,14 +102,16 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       } else {
         if (i + 2 >= args.size())
           fail("wall_material needs E NU (E > 0 Pa, NU in (-1, 0.5]) or rigid");
-        err = parse_material("wall_material", args[i + 1], args[i + 2], wall_E, wall_nu);
+        err = viscontact::parse_material("wall_material E", "wall_material nu", args[i + 1],
+                                         args[i + 2], wall_E, wall_nu);
         if (!err.empty()) fail(err);
         i += 3;
       }
     } else if (args[i] == "particle") {
       if (has_particle) fail("particle given twice");
       if (i + 2 >= args.size()) fail("particle needs E NU (E > 0 Pa, NU in (-1, 0.5])");
-      err = parse_material("particle", args[i + 1], args[i + 2], particle_E, particle_nu);
+      err = viscontact::parse_material("particle E", "particle nu", args[i + 1], args[i + 2],
+                                       particle_E, particle_nu);
       if (!err.empty()) fail(err);
       has_particle = true;
       i += 3;
@@ -269,7 +259,9 @@ void FixWallViscontact::contact(int i, int w, double delta, const double n[3],
   }
   const viscontact::ContactCoeffs &cc = coeffs(atom->type[i], atom->rmass[i], r);
   const double fn = viscontact::clamp_normal(
-      viscontact::normal_force(delta, ddelta, t_now - h[4], cc.k, cc.c0, cc.tau, lp.p), lp.clamp);
+      viscontact::normal_force(delta, ddelta, viscontact::contact_clock(t_now, h[4]), cc.k, cc.c0,
+                               cc.tau, lp.p),
+      lp.clamp);
 
   double ft[3] = {0.0, 0.0, 0.0};
   if (lp.friction) {
@@ -298,7 +290,7 @@ void FixWallViscontact::contact(int i, int w, double delta, const double n[3],
 void FixWallViscontact::post_force(int /*vflag*/)
 {
   const bool update_history = !update->setupflag;
-  const double t_now = update->atime + (update->ntimestep - update->atimestep) * update->dt;
+  const double t_now = viscontact::time_now(update);
   double **x = atom->x;
   const double *radius = atom->radius;
   const int *mask = atom->mask;

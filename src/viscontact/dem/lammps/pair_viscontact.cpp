@@ -110,12 +110,8 @@ void PairViscontact::parse_coeff(int narg, char **arg, vc::LawParams &lp, double
     fail(fmt::format("pair viscontact: expected 'hertz/material E NU' after the two types, got "
                      "'{}'", narg < 3 ? "" : arg[2]));
   if (narg < 5) fail("pair viscontact: hertz/material needs two values, E and NU");
-  std::string err = vc::parse_number("E (Pa)", args[3], true, E);
+  std::string err = vc::parse_material("E (Pa)", "nu", args[3], args[4], E, nu);
   if (!err.empty()) fail("pair viscontact: " + err);
-  char *end = nullptr;
-  nu = std::strtod(arg[4], &end);
-  if (end == arg[4] || *end != '\0' || !(nu > -1.0 && nu <= 0.5))
-    fail(fmt::format("pair viscontact: nu must be in (-1, 0.5], got {}", arg[4]));
 
   vc::LawKeywords kw;
   size_t i = 5;
@@ -262,11 +258,6 @@ inline PairContact pair_contact(const double dx[3], double rsq, double radi, dou
   return c;
 }
 
-/// the time of the current step [s], as LAMMPS counts it (atime at atimestep, then dt a step)
-inline double time_now(const Update *update)
-{
-  return update->atime + (double) (update->ntimestep - update->atimestep) * update->dt;
-}
 }    // namespace
 
 void PairViscontact::compute(int eflag, int vflag)
@@ -280,7 +271,7 @@ void PairViscontact::compute(int eflag, int vflag)
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
   const double dt = update->dt;
-  const double t_now = time_now(update);
+  const double t_now = vc::time_now(update);
   // forces of a run's setup must not advance the history (as pair granular)
   const bool history_update = !update->setupflag;
   FixViscontactHistory *fh = (fix_history && fix_history->ready()) ? fix_history : nullptr;
@@ -357,7 +348,7 @@ void PairViscontact::compute(int eflag, int vflag)
         }
       }
       // >= 0 even if the user resets the simulation time (reset_timestep ... time) mid-contact
-      const double t_contact = std::max(0.0, t_now - hc[3]);
+      const double t_contact = vc::contact_clock(t_now, hc[3]);
 
       const double fn = vc::clamp_normal(
           vc::normal_force(delta, ddelta, t_contact, cc.k, cc.c0, cc.tau, lp.p), lp.clamp);
@@ -412,7 +403,7 @@ double PairViscontact::single(int i, int j, int itype, int jtype, double rsq, do
   const double *n = c.n, *vtr = c.vtr;
   const vc::ContactCoeffs cc = vc::contact_coeffs(lp, c.meff, reff);
   const double dt = update->dt;
-  const double t_now = time_now(update);
+  const double t_now = vc::time_now(update);
 
   // this contact's history in the pair's neighbour list (i's entry for j), if any
   double hist[vc::HISTORY_SIZE] = {0.0, 0.0, 0.0, vc::contact_start_time(t_now, dt, delta, ddelta)};
@@ -429,7 +420,7 @@ double PairViscontact::single(int i, int j, int itype, int jtype, double rsq, do
     }
   }
   const double fn = vc::clamp_normal(
-      vc::normal_force(delta, ddelta, std::max(0.0, t_now - hist[3]), cc.k, cc.c0, cc.tau, lp.p),
+      vc::normal_force(delta, ddelta, vc::contact_clock(t_now, hist[3]), cc.k, cc.c0, cc.tau, lp.p),
       lp.clamp);
   double ft[3] = {0.0, 0.0, 0.0};
   if (lp.friction)

@@ -182,6 +182,19 @@ inline ContactCoeffs contact_coeffs(const LawParams &lp, double meff, double ref
   return cc;
 }
 
+/// The time of the current step [s] as LAMMPS counts it (atime at step atimestep, then dt a
+/// step); U is LAMMPS's Update (a template, so that this header needs no LAMMPS include).
+template <class U> inline double time_now(const U *update)
+{
+  return update->atime + (double) (update->ntimestep - update->atimestep) * update->dt;
+}
+
+/// Jian's contact clock t - t0 [s], never negative (a reset of the time can put t before t0).
+inline double contact_clock(double t_now, double t0)
+{
+  return t_now > t0 ? t_now - t0 : 0.0;
+}
+
 /// Start time [s] of a contact first seen at time t_now with overlap delta and rate ddelta:
 /// the overlap is taken back linearly to 0, t0 = t_now - delta/ddelta, but at most one step dt
 /// back (t0 in [t_now - dt, t_now]; ddelta <= 0: t0 = t_now).  Jian's clock is t_c = t - t0.

@@ -39,6 +39,21 @@ inline std::string parse_number(const std::string &keyword, const std::string &t
   return "";
 }
 
+/// A material's E (> 0, finite) and nu (in (-1, 0.5], as hertz/material), from their texts;
+/// the messages name them E_label and nu_label.  Returns an error message, or "" on success.
+inline std::string parse_material(const std::string &E_label, const std::string &nu_label,
+                                  const std::string &Etext, const std::string &nutext, double &E,
+                                  double &nu)
+{
+  std::string err = parse_number(E_label, Etext, true, E);
+  if (!err.empty()) return err;
+  char *end = nullptr;
+  nu = std::strtod(nutext.c_str(), &end);
+  if (nutext.empty() || *end != '\0' || !(nu > -1.0 && nu <= 0.5))
+    return nu_label + " must be in (-1, 0.5], got " + nutext;
+  return "";
+}
+
 /// Accumulates the law keywords of one pair_coeff / wall fix; call take() on each keyword,
 /// then finish() once.
 class LawKeywords {
