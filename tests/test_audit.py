@@ -243,7 +243,7 @@ def test_engine_lookup_errors():
     with pytest.raises(ValueError, match="no damping option"):
         get_preset("lammps", "hooke")
     assert get_preset("LAMMPS", "coeff-restitution").option == "coeff_restitution"
-    assert set(ENGINES) == {"lammps", "liggghts", "mercurydpm", "chrono", "demengine", "yade"}
+    assert set(ENGINES) == {"lammps", "liggghts", "mercurydpm", "chrono", "demengine", "yade", "kratos"}
 
 
 # ------------------------------------------------------------------------------- report
