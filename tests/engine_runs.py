@@ -162,7 +162,7 @@ def missing_reason(engine: str) -> str | None:
     if engine == "yade" and yade_exe() is None:
         return "Yade not installed (Debian: apt-get install yade)"
     if engine == "kratos" and not kratos_available():
-        return "Kratos DEM not installed (pip install KratosDEMApplication==10.4.4)"
+        return "Kratos DEM not installed (pip install -e '.[kratos]', i.e. KratosDEMApplication==10.4.4)"
     return None
 
 
