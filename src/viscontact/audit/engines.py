@@ -4,7 +4,11 @@ Each :class:`Preset` says which viscontact law an engine's Hertzian normal force
 damping option is, how the number the user types maps to our non-dimensional alpha (and
 back), and which end-of-contact criterion the engine applies (zero force when it clamps
 the attractive force, zero overlap when it lets the damping pull).  Every mapping is read
-from the engine's own source or documentation; the file or page is in ``source``.
+from the engine's own source or documentation; the file or page is in ``source``.  Where an
+engine changed its mapping between releases it has one preset per version range (Yade: the
+Antypov-Elliott alpha up to 2022.01a, the Thornton et al. 2013 fit from 2023.02a), chosen by
+``version`` (default: the current release).  ``checked`` says what was run against the real
+engine (tests/test_engines.py, tests/test_lammps.py) and what was only read.
 
 Units: SI (any consistent set works; T must come out in the engine's time unit).
 
