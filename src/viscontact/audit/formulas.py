@@ -37,7 +37,7 @@ from ..laws import lookup
 __all__ = [
     "Formula", "FORMULAS", "FormulaAudit", "audit_formula", "exact_alpha", "delivered_e",
     "first_order_coefficient", "first_order_formula", "get_formula", "hunt_exact_alpha",
-    "antypov_elliott_alpha", "tsuji_polynomial",
+    "antypov_elliott_alpha", "tsuji_polynomial", "thornton_alpha", "thornton_gamma", "THORNTON_H",
 ]
 
 SQRT5 = math.sqrt(5.0)
@@ -204,7 +204,8 @@ def antypov_elliott_alpha(e: float) -> float:
     Exact for the Tsuji law with the zero-overlap criterion (SPEC section 6).
     D. Antypov, J.A. Elliott, EPL 94 (2011) 50004.  This is also the formula inside LAMMPS
     ``coeff_restitution``, LIGGGHTS ``hertz``, Chrono SMC Hertz, DEM-Engine, MercuryDPM and
-    Yade (see :mod:`viscontact.audit.engines`).
+    Yade up to 2022.01a (Yade 2023.02a and Kratos DEM use :func:`thornton_gamma`; see
+    :mod:`viscontact.audit.engines`).
     """
     le = math.log(e)
     return -SQRT5 * le / math.sqrt(le * le + math.pi**2)
@@ -225,6 +226,44 @@ def tsuji_polynomial(e: float) -> float:
     """The Tsuji et al. (1992) alpha(e) curve as LAMMPS documents it (Marshall 2009, eq. 53):
     alpha = 1.2728 - 4.2783 e + 11.087 e^2 - 22.348 e^3 + 27.467 e^4 - 18.022 e^5 + 4.8218 e^6."""
     return float(np.polynomial.polynomial.polyval(e, _TSUJI_COEFFS))
+
+
+#: Thornton, Cummins & Cleary (2013), Powder Technol. 233, 30-46, Appendix B: the fit of
+#: eq. (B7), ln-term a(e) = sum_{i=1..10} h_i e^i, with the h_i of their Table 2 (as quoted,
+#: with the same digits, in Yade 2023.02a pkg/dem/HertzMindlin.cpp and Kratos 10.4.4
+#: DEMApplication/sphere_strategy.py GammaForHertzThornton).
+THORNTON_H = (-6.918798, -16.41105, 146.8049, -796.4559, 2928.711, -7206.864, 11494.29,
+              -11342.18, 6276.757, -1489.915)
+
+
+def thornton_gamma(e: float) -> float:
+    """The damping ratio gamma(e) of Thornton et al. (2013), eqs. (B6)-(B7):
+
+    a(e) = sum_{i=1..10} h_i e^i (B7),  gamma = sqrt(1 / (1 - (1 + e)^2 exp(a)) - 1) (B6).
+
+    Fitted for a Hertz spring with the dashpot c = 2 gamma sqrt(m* k_t), k_t = dF/d(delta)
+    = 2 E* sqrt(R* delta) the tangent stiffness, and a contact that ends at zero force.
+    Strictly decreasing on (0, 1); it tends to 0.00453 (not 0) as e -> 1, so the engines that
+    use it special-case e = 1 (Yade, and this function) or e > 0.999 (Kratos) to gamma = 0.
+    C. Thornton, S.J. Cummins, P.W. Cleary, Powder Technol. 233 (2013) 30.
+    """
+    if e == 1.0:
+        return 0.0  # the fit's limit is 0.00453; Yade sets 0 for en = 1 exactly, so do we
+    a = 0.0
+    for h in reversed(THORNTON_H):  # Horner: e (h1 + e (h2 + ... + e h10))
+        a = a * e + h
+    a *= e
+    return math.sqrt(1.0 / (1.0 - (1.0 + e) ** 2 * math.exp(a)) - 1.0)
+
+
+#: our Ts alpha per unit Thornton gamma: c = 2 gamma sqrt(m* 2 E* sqrt(R* delta))
+#: = 2 sqrt(3/2) gamma sqrt(m* k_Hertz) delta^(1/4), since 2 E* sqrt(R*) = (3/2) k_Hertz
+THORNTON_ALPHA_PER_GAMMA = 2.0 * math.sqrt(1.5)
+
+
+def thornton_alpha(e: float) -> float:
+    """Our Ts alpha for the Thornton et al. (2013) fit: alpha = sqrt(6) gamma(e) (eqs. B6-B7)."""
+    return THORNTON_ALPHA_PER_GAMMA * thornton_gamma(e)
 
 
 def _tsuji_lammps(e: float) -> float:
@@ -345,6 +384,9 @@ _REGISTERED: tuple[Formula, ...] = (
     Formula("antypov-elliott", "Antypov-Elliott", "Ts",
             "D. Antypov, J.A. Elliott, EPL 94 (2011) 50004", antypov_elliott_alpha,
             derived_for="overlap"),
+    Formula("thornton-2013", "Thornton-Cummins-Cleary fit", "Ts",
+            "C. Thornton, S.J. Cummins, P.W. Cleary, Powder Technol. 233 (2013) 30, eqs. B6-B7 "
+            "(Table 2 coefficients); alpha = sqrt(6) gamma", thornton_alpha, derived_for="force"),
     Formula("tsuji-lammps", "Tsuji curve (LAMMPS doc)", "Ts",
             "Y. Tsuji et al., Powder Technol. 71 (1992) 239; J.S. Marshall, J. Comput. Phys. 228 "
             "(2009) 1541 eq. 53; LAMMPS doc pair_granular", _tsuji_lammps),

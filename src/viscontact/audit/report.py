@@ -14,7 +14,7 @@ from collections.abc import Iterable, Sequence
 
 from ..dimensional import ContactPair
 from ..domain import range_text
-from .engines import ENGINES, EngineAudit, audit_engine, get_preset
+from .engines import ENGINES, EngineAudit, audit_engine, get_preset, presets_of
 from .formulas import FORMULAS, FormulaAudit, audit_formula
 
 __all__ = [
@@ -35,7 +35,7 @@ ENDS = ("force", "overlap")
 
 _FORMULA_FIELDS = ["formula", "model", "p", "derived_for", "end", "target_e", "alpha", "delivered_e",
                    "error", "exact_alpha", "note"]
-_ENGINE_FIELDS = ["engine", "option", "clamp", "model", "end", "target_e", "input_name", "input_units",
+_ENGINE_FIELDS = ["engine", "option", "versions", "clamp", "model", "end", "target_e", "input_name", "input_units",
                   "input_value", "alpha", "delivered_e", "error", "exact_alpha", "input_for_target",
                   "note"]
 
@@ -51,14 +51,15 @@ def formula_rows(grid: Iterable[float] = DEFAULT_GRID, ends: Sequence[str] = END
     return out
 
 
-def engine_settings() -> list[tuple[str, str, bool | None]]:
-    """(engine, option, clamp) for every preset: both clamp states where the engine has a switch."""
+def engine_settings() -> list[tuple[str, str, bool | None, str | None]]:
+    """(engine, option, clamp, version) for every preset: both clamp states where the engine
+    has a switch; version None for the current preset, its last version for an older one."""
     out = []
     for eng, opts in ENGINES.items():
         for opt in opts:
-            pre = get_preset(eng, opt)
-            for clamp in ((False, True) if pre.clamp_flag else (None,)):
-                out.append((eng, opt, clamp))
+            for pre in presets_of(eng, opt):
+                for clamp in ((False, True) if pre.clamp_flag else (None,)):
+                    out.append((eng, opt, clamp, pre.until))
     return out
 
 
@@ -66,9 +67,9 @@ def engine_rows(grid: Iterable[float] = DEFAULT_GRID,
                 physical: ContactPair = DEFAULT_PHYSICAL) -> list[EngineAudit]:
     """Every preset and clamp state at every e of ``grid``."""
     out = []
-    for eng, opt, clamp in engine_settings():
+    for eng, opt, clamp, ver in engine_settings():
         for e in grid:
-            out.append(audit_engine(eng, opt, e, clamp=clamp, physical=physical))
+            out.append(audit_engine(eng, opt, e, clamp=clamp, physical=physical, version=ver))
     return out
 
 
@@ -121,9 +122,9 @@ def markdown_table(rows: Sequence) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _engine_label(eng: str, opt: str, clamp: bool | None) -> str:
-    pre = get_preset(eng, opt)
-    label = f"{eng} {opt}"
+def _engine_label(eng: str, opt: str, clamp: bool | None, version: str | None = None) -> str:
+    pre = get_preset(eng, opt, version)
+    label = f"{eng} {opt}" + (f" (<= {pre.until})" if pre.until else "")
     if pre.clamp_flag:
         label += f" {'+' if clamp else 'no '}{pre.clamp_flag}"
     return label
@@ -152,12 +153,12 @@ def summary_markdown(e_values: Sequence[float] = SUMMARY_E,
             f"k_Hertz = {physical.k_hertz:g} N/m^1.5, v = {physical.v:g} m/s, T = {physical.T:.6g} s).\n"]
     head = "| engine setting | law | end | input | " + " | ".join(f"e = {e:g}" for e in e_values) + " |"
     out += [head, "|" + "---|" * (4 + len(e_values))]
-    for eng, opt, clamp in engine_settings():
-        rows = [audit_engine(eng, opt, e, clamp=clamp, physical=physical) for e in e_values]
+    for eng, opt, clamp, ver in engine_settings():
+        rows = [audit_engine(eng, opt, e, clamp=clamp, physical=physical, version=ver) for e in e_values]
         r0 = rows[0]
         unit = "" if r0.input_units == "-" else f" [{r0.input_units}]"
         cells = [f"{_value(r.delivered_e, 4)} [{_value(r.input_for_target, 5)}]" for r in rows]
-        out.append(f"| {_engine_label(eng, opt, clamp)} | {r0.model} | zero {r0.end} | "
+        out.append(f"| {_engine_label(eng, opt, clamp, ver)} | {r0.model} | zero {r0.end} | "
                    f"{r0.input_name}{unit} | " + " | ".join(cells) + " |")
     return "\n".join(out) + "\n"
 
@@ -206,15 +207,15 @@ def plot_engines(rows: Sequence[EngineAudit], path: str) -> str:
     plt = _mpl()
     fig, ax = plt.subplots(figsize=(8, 10))
     ax.plot([0, 1], [0, 1], color="k", lw=0.8, label="delivered = target")
-    keys = list(dict.fromkeys((r.engine, r.option, r.clamp, r.end) for r in rows))
+    keys = list(dict.fromkeys((r.engine, r.option, r.versions, r.clamp, r.end) for r in rows))
     cmap = plt.get_cmap("tab20")
-    for i, (eng, opt, clamp, end) in enumerate(keys):
-        pts = [(r.target_e, r.delivered_e) for r in rows if (r.engine, r.option, r.clamp, r.end)
-               == (eng, opt, clamp, end) and r.delivered_e is not None]
+    for i, (eng, opt, versions, clamp, end) in enumerate(keys):
+        pts = [(r.target_e, r.delivered_e) for r in rows if (r.engine, r.option, r.versions, r.clamp, r.end)
+               == (eng, opt, versions, clamp, end) and r.delivered_e is not None]
         if pts:
             x, y = zip(*pts)
-            pre = get_preset(eng, opt)
-            label = _engine_label(eng, opt, clamp if pre.clamp_flag else None) + f" (zero {end})"
+            pre = next(p for p in presets_of(eng, opt) if p.versions == versions)
+            label = _engine_label(eng, opt, clamp if pre.clamp_flag else None, pre.until) + f" (zero {end})"
             ax.plot(x, y, "-" if end == "force" else "--", color=cmap(i % 20), marker=".", ms=3,
                     label=label)
     ax.set_xlabel("target e")

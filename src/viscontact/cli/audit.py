@@ -36,6 +36,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--p", type=float, default=None, help=f"formula first-order with --model power: exponent in {_R('p')}")
     p.add_argument("--damping", metavar="OPTION", default=None,
                    help="engine damping option; lammps: " + ", ".join(ENGINES["lammps"]))
+    p.add_argument("--engine-version", metavar="VERSION", default=None,
+                   help="engine release, e.g. yade 2022.01a (Antypov-Elliott) or 2023.02a (Thornton "
+                   "2013 fit); default: the current release")
     p.add_argument("--limit-damping", action="store_true",
                    help="LAMMPS: limit_damping (clamp attraction: contact ends at zero force)")
     p.add_argument("--limit-force", action="store_true",
@@ -88,6 +91,7 @@ def _audit(args: argparse.Namespace) -> int:
 
 def _no_engine_options(args: argparse.Namespace) -> None:
     used = [flag for flag, v in (("--damping", args.damping), ("--value", args.value),
+                                 ("--engine-version", args.engine_version),
                                  ("--m-eff", args.m_eff), ("--r-eff", args.r_eff), ("--e-eff", args.e_eff),
                                  ("--k-hertz", args.k_hertz), ("--v", args.v)) if v is not None]
     used += [f for f, v in (("--limit-damping", args.limit_damping), ("--limit-force", args.limit_force)) if v]
@@ -128,7 +132,7 @@ def _engine(args: argparse.Namespace) -> int:
         raise ValueError("--end is set by the engine; use --limit-damping / --limit-force where the engine has it")
     if args.model is not None or args.p is not None:
         raise ValueError("--model/--p only apply to --formula first-order")
-    pre = get_preset(args.engine, args.damping)
+    pre = get_preset(args.engine, args.damping, args.engine_version)
     clamp: bool | None = None
     for flag, on in (("limit_damping", args.limit_damping), ("limitForce", args.limit_force)):
         if on:
@@ -140,15 +144,20 @@ def _engine(args: argparse.Namespace) -> int:
     if phys is not None and not pre.needs_physical:
         raise ValueError(f"{pre.engine} {pre.option} takes a restitution coefficient; physical "
                          "quantities are not needed")
-    r = audit_engine(pre.engine, pre.option, args.e, clamp=clamp, physical=phys, value=args.value)
+    r = audit_engine(pre.engine, pre.option, args.e, clamp=clamp, physical=phys, value=args.value,
+                     version=args.engine_version)
     if args.json:
         print_json(r.to_dict())
         return 0
     unit = "" if r.input_units == "-" else f" [{r.input_units}]"
     flag = f", {pre.clamp_flag} {'on' if r.clamp else 'off'}" if pre.clamp_flag else ""
     print(f"{r.engine} {r.option}{flag}: {r.model} law, contact ends at zero {r.end}")
+    print(f"  versions: {r.versions}")
     print(f"  mapping: {r.mapping}")
     print(f"  source:  {r.source}")
+    print(f"  spring:  {r.spring}")
+    print(f"  wall:    {r.wall}")
+    print(f"  checked: {r.checked}")
     if r.T is not None:
         print(f"  T = {r.T:.6g} s")
     print(f"  target e            {r.target_e:.10g}")
@@ -165,6 +174,7 @@ def _engine(args: argparse.Namespace) -> int:
 def _all(args: argparse.Namespace) -> int:
     extra = [f for f, v in (("--formula", args.formula), ("--engine", args.engine), ("--e", args.e),
                             ("--value", args.value), ("--damping", args.damping),
+                            ("--engine-version", args.engine_version),
                             ("--model", args.model), ("--p", args.p), ("--end", args.end))
              if v is not None]
     extra += [f for f, v in (("--limit-damping", args.limit_damping),
