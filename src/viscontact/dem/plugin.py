@@ -259,8 +259,12 @@ def kernel_library_path(rebuild: bool = False) -> Path:
 
 
 def plugin_load_line(rebuild: bool = False) -> str:
-    """The LAMMPS command that loads the plugin: ``plugin load /abs/path/viscontact.so``."""
-    return f"plugin load {plugin_path(rebuild)}"
+    """The LAMMPS command that loads the plugin: ``plugin load '/abs/path/viscontact.so'``,
+    quoted so that LAMMPS reads the path back (ValueError for a path no input line can hold:
+    :func:`viscontact.dem._text.quote_path`)."""
+    from ._text import quote_path
+
+    return f"plugin load {quote_path(plugin_path(rebuild), 'plugin path')}"
 
 
 _MPI_LOADED = False
@@ -298,5 +302,14 @@ def new_lammps(args: list[str] | None = None, *, load_plugin: bool = True):
     except Exception as exc:  # the module raises plain exceptions when the library is missing
         raise PluginError(f"cannot start LAMMPS in-process ({exc}); {_INSTALL}") from None
     if path is not None:
-        lmp.command(f"plugin load {path}")
+        from ._text import literal_path_ok, quote_path
+
+        if literal_path_ok(path):
+            lmp.command(f"plugin load {quote_path(path)}")
+        elif not any(c.isspace() for c in str(path)):  # an unquoted variable reads it back
+            lmp.set_variable("viscontact_plugin", str(path))
+            lmp.command("plugin load ${viscontact_plugin}")
+        else:
+            raise PluginError(f"the plugin path {str(path)!r} mixes whitespace with characters a "
+                              "LAMMPS line cannot hold; set VISCONTACT_CACHE_DIR to a plain directory")
     return lmp
