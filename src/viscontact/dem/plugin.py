@@ -203,10 +203,19 @@ def _build(target: Path, cmd_sources: list[Path], extra: list[str], progress) ->
             try:
                 cmd = [*cxx, "-std=c++17", "-O2", "-fPIC", "-shared", *extra,
                        *map(str, cmd_sources), "-o", tmp]
-                proc = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
+                # its own process group: an interrupt ends the compiler's children too (cc1plus)
+                proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                        stdin=subprocess.DEVNULL, text=True, start_new_session=True)
+                try:
+                    _, stderr = proc.communicate(timeout=900)
+                except BaseException:
+                    from .run import stop_lammps
+
+                    stop_lammps(proc)
+                    raise
                 if proc.returncode != 0:
-                    first = next((ln for ln in proc.stderr.splitlines() if "error" in ln),
-                                 proc.stderr.strip()[:300])
+                    first = next((ln for ln in stderr.splitlines() if "error" in ln),
+                                 stderr.strip()[:300])
                     raise PluginError(f"compiling the viscontact plugin failed: {first}")
                 os.replace(tmp, target)
             finally:
