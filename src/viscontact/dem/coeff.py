@@ -646,5 +646,5 @@ def _time_comments(types: list[ParticleType], wall_mats: list[tuple[float, float
             m = t.density * math.pi / 6 * t.diameter[0] ** 3  # type: ignore[index, operator]
             shortest = min(shortest, _contact_time(m, t.diameter[0] / 2, 1 / inv, vref))  # type: ignore[index]
     tc = convert(shortest, "time", units)
-    return (f"# shortest Hertz contact time at vref (smallest spheres): {tc:.4g} ({units} time units)",
+    return (f"# shortest Hertz contact time t_c at vref (smallest spheres): {tc:.4g} ({units} time units)",
             f"# a time step of t_c/50 resolves every contact: timestep {tc / 50:.3g}")
