@@ -346,6 +346,7 @@ def test_a_signal_ends_the_whole_tree_and_removes_temp_files(tmp_path, built_plu
     for pid in left:  # never leave an orphan behind, even when the test fails
         os.kill(pid, signal.SIGKILL)
     assert left == {}, f"still running after {sig.name}: {left}"
+    print(f"{caller} np={nproc} {sig.name}: stopped in {elapsed:.2f} s")
     assert elapsed < 2.0, elapsed
     assert proc.returncode != 0
     if caller == "dem run":
@@ -496,6 +497,7 @@ def test_coeff_set_gives_each_pair_and_wall_its_target_e(tmp_path, nproc):
         dt=dt, steps=steps))
     res = dem.run_input(tmp_path / "in.collide", np=nproc, progress=False, quiet=True)
     assert res.thermo["v_e12"][0] == pytest.approx(-1.0)
+    print(f"e pair {res.thermo['v_e12'][-1]!r} (target {e12}), wall {res.thermo['v_ew'][-1]!r} (target {ew})")
     assert res.thermo["v_e12"][-1] == pytest.approx(e12, abs=1e-3)
     assert res.thermo["v_ew"][-1] == pytest.approx(ew, abs=1e-3)
 

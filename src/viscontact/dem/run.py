@@ -220,7 +220,8 @@ class Interrupted(KeyboardInterrupt):
 def stop_on_signals() -> Iterator[None]:
     """While the block runs, SIGTERM and SIGHUP raise :class:`Interrupted` in the main thread
     (as SIGINT raises KeyboardInterrupt), so that ``finally`` clauses end LAMMPS and remove
-    temporary files; the previous handlers come back afterwards.  No-op outside the main thread."""
+    temporary files; the previous handlers come back afterwards.  A signal that already has a
+    handler, or is ignored, keeps it.  No-op outside the main thread."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -228,7 +229,9 @@ def stop_on_signals() -> Iterator[None]:
     def handler(signum, _frame):
         raise Interrupted(signum)
 
-    old = {sig: signal.signal(sig, handler) for sig in (signal.SIGTERM, signal.SIGHUP)}
+    # only where the default (death) would apply: an ignored SIGHUP (nohup) stays ignored
+    old = {sig: signal.signal(sig, handler) for sig in (signal.SIGTERM, signal.SIGHUP)
+           if signal.getsignal(sig) is signal.SIG_DFL}
     try:
         yield
     finally:
@@ -246,6 +249,31 @@ def start_lammps(cmd: list[str], *, cwd: str | os.PathLike, stdout: Any = subpro
                             env=None if env is None else dict(env), start_new_session=True)
 
 
+def _group_alive(pgid: int) -> bool:
+    """Whether a process of group ``pgid`` still runs.  Zombies do not count: the real ``lmp``
+    is reparented when the wrapper dies, and whoever adopts it may reap it late (as signal 0
+    to the group would still find it)."""
+    try:
+        entries = os.listdir("/proc")
+    except OSError:  # no /proc: ask the kernel (zombies count there)
+        try:
+            os.killpg(pgid, 0)
+        except (ProcessLookupError, PermissionError):
+            return False
+        return True
+    for entry in entries:
+        if not entry.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry}/stat", "rb") as fh:
+                fields = fh.read().rsplit(b")", 1)[1].split()
+        except (OSError, IndexError):
+            continue
+        if int(fields[2]) == pgid and fields[0] != b"Z":
+            return True
+    return False
+
+
 def stop_lammps(proc: subprocess.Popen, grace: float = 1.0) -> None:
     """End every process of ``proc``'s group: SIGTERM, then SIGKILL after ``grace`` seconds
     for whatever is left (members that outlive the leader included); reaps the leader."""
@@ -257,10 +285,8 @@ def stop_lammps(proc: subprocess.Popen, grace: float = 1.0) -> None:
             break
         deadline = time.monotonic() + grace
         while time.monotonic() < deadline:
-            proc.poll()  # reap the leader: a zombie would keep the group alive
-            try:
-                os.killpg(pgid, 0)
-            except (ProcessLookupError, PermissionError):
+            proc.poll()  # reap the leader
+            if not _group_alive(pgid):
                 break
             time.sleep(0.02)
         else:
