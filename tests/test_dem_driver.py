@@ -188,7 +188,7 @@ def test_demlaw_checks_every_value_where_built(kwargs, match):
 
 
 def test_public_arguments_have_typed_errors(tmp_path, capsys):
-    law = dem.contact_law("KK", e=0.8, vref=1.0)
+    law = dem.contact_law("KK", alpha=0.3, vref=1.0)
     with pytest.raises(TypeError, match="ContactPair"):
         law.physical(0.5)
     pair = ContactPair.from_effective(m_eff=1e-3, r_eff=0.005, e_eff=1e7)
