@@ -504,6 +504,59 @@ def test_coeff_set_gives_each_pair_and_wall_its_target_e(tmp_path, nproc):
     assert res.thermo["v_ew"][-1] == pytest.approx(ew, abs=1e-3)
 
 
+_COLLIDE_UNITS = """\
+units {units}
+atom_style sphere
+atom_modify map array
+comm_modify vel yes
+boundary f f f
+region box block {lo} {hi} {lo} {hi} {lo} {hi}
+create_box 2 box
+create_atoms 1 single {x1} 0.0 0.0
+create_atoms 2 single {x2} 0.0 0.0
+set atom 1 diameter {d1} density {rho1}
+set atom 2 diameter {d2} density {rho2}
+velocity all set 0 0 0
+set atom 1 vx {vh}
+set atom 2 vx -{vh}
+include coeffs.in
+fix 1 all nve/sphere
+timestep {dt}
+variable e12 equal (vx[2]-vx[1])/{vref}
+thermo_style custom step v_e12
+thermo_modify format float %.12g
+thermo {steps}
+run {steps}
+"""
+
+
+@needs_lammps
+@pytest.mark.parametrize("units", ["cgs", "micro"])
+def test_lines_in_another_units_style_give_the_same_e(tmp_path, units):
+    """The same two-material collision written in cgs or micro units (every number of the
+    input converted by the LAMMPS definitions, the pair lines printed with units=...): the
+    mixed pair still comes off with its target e (the calibration is dimensionless; this checks
+    the velocity scale, the pressure scale is checked against the definitions above)."""
+    cv = coeff_mod.convert
+    vref, e12 = 0.5, 0.7
+    t1 = {"E": 1e7, "nu": 0.3, "density": 2500.0, "d": 0.006}
+    t2 = {"E": 5e7, "nu": 0.2, "density": 7800.0, "d": 0.008}
+    cs = dem.coeff_set("KK", [t1, t2], e=0.8, e_pair={(1, 2): e12}, vref=vref, units=units)
+    (tmp_path / "coeffs.in").write_text("\n".join(cs.lines()) + "\n")
+    tc_si = float(cs.comments[0].split(":")[1].split()[0]) / cv(1.0, "time", units)
+    dt = tc_si / 400
+    steps = int(round(0.002 / vref / dt + 6 * tc_si / dt))
+    L = lambda x: repr(cv(x, "length", units))  # noqa: E731
+    (tmp_path / "in.collide").write_text(_COLLIDE_UNITS.format(
+        units=units, lo=L(-0.05), hi=L(0.05), x1=L(-0.0035), x2=L(0.0045), d1=L(t1["d"]),
+        d2=L(t2["d"]), rho1=repr(cv(t1["density"], "density", units)),
+        rho2=repr(cv(t2["density"], "density", units)), vh=repr(cv(vref / 2, "velocity", units)),
+        vref=repr(cv(vref, "velocity", units)), dt=repr(cv(dt, "time", units)), steps=steps))
+    res = dem.run_input(tmp_path / "in.collide", progress=False, quiet=True)
+    assert res.thermo["v_e12"][0] == pytest.approx(-1.0)
+    assert res.thermo["v_e12"][-1] == pytest.approx(e12, abs=1e-3)
+
+
 def test_cli_several_types_prints_every_pair_and_wall(capsys):
     proc = run_cli("dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1",
                    "--type", "E=1e7,nu=0.3,density=2500,d=0.002:0.004",
