@@ -74,6 +74,15 @@ def plugin_line() -> str:
     return f"plugin load {plugin_path()}"
 
 
+def sphere_head(boundary: str, box: str, ntypes: int = 1, units: str = "si") -> str:
+    """The first lines of a test input for spheres: ``{plugin}`` (a placeholder for
+    :func:`plugin_line`), units, ``atom_style sphere``, ``atom_modify map array``, the boundary,
+    ``comm_modify vel yes`` and a block box ``box`` ("xlo xhi ylo yhi zlo zhi") of ntypes."""
+    return (f"{{plugin}}\nunits {units}\natom_style sphere\natom_modify map array\n"
+            f"boundary {boundary}\ncomm_modify vel yes\nregion box block {box}\n"
+            f"create_box {ntypes} box\n")
+
+
 def run_lmp(script: str, workdir: Path, *, np: int = 1, variables: dict | None = None,
             name: str = "in.test", timeout: float = 300,
             env: dict | None = None) -> subprocess.CompletedProcess:

@@ -40,21 +40,27 @@ DOMAINS = {
 }
 PAIR_BASES = [
     # (tokens after "pair_coeff * *", the domain of each token or None for a word)
-    "hertz/material E:1e7 nu:0.3 damping KK alpha alpha:0.3 vref vref:1.0 end force tangential mindlin mu:0.5",
-    "hertz/material E:1e7 nu:0.3 damping Jian alpha alpha:0.3 vref vref:1.0 beta beta:0.5 tangential none",
-    "hertz/material E:1e7 nu:0.3 damping Jian c0 c0:5 tau tau:1e-4 end overlap tangential mindlin mu:0.3",
+    "hertz/material E:1e7 nu:0.3 damping KK alpha alpha:0.3 vref vref:1.0 end force "
+    "tangential mindlin mu:0.5",
+    "hertz/material E:1e7 nu:0.3 damping Jian alpha alpha:0.3 vref vref:1.0 beta beta:0.5 "
+    "tangential none",
+    "hertz/material E:1e7 nu:0.3 damping Jian c0 c0:5 tau tau:1e-4 end overlap tangential "
+    "mindlin mu:0.3",
     "hertz/material E:1e7 nu:0.3 damping power p p:0.75 c0 c0:2 tangential none",
     "hertz/material E:1e7 nu:0.3 damping LH c0 c0:0.05 tangential mindlin mu:1",
 ]
 WALL_BASES = [
-    "zplane coord:-0.001 NULL wall_material E:1e7 nu:0.3 damping KK alpha alpha:0.3 vref vref:1.0 tangential mindlin mu:0.5 particle E:1e7 nu:0.3",
+    "zplane coord:-0.001 NULL wall_material E:1e7 nu:0.3 damping KK alpha alpha:0.3 vref "
+    "vref:1.0 tangential mindlin mu:0.5 particle E:1e7 nu:0.3",
     "zcylinder R:0.02 wall_material rigid damping Ts c0 c0:3 tangential none particle E:1e7 nu:0.3",
-    "xplane coord:-0.02 coord:0.02 wall_material E:2e7 nu:0.25 damping Jian alpha alpha:0.2 vref vref:0.5 beta beta:1 end overlap tangential mindlin mu:0.2 particle E:1e7 nu:0.3",
+    "xplane coord:-0.02 coord:0.02 wall_material E:2e7 nu:0.25 damping Jian alpha "
+    "alpha:0.2 vref vref:0.5 beta beta:1 end overlap tangential mindlin mu:0.2 particle "
+    "E:1e7 nu:0.3",
 ]
-BAD_VALUES = ["nan", "NaN", "inf", "-inf", "Infinity", "1e309", "-1e309", "1e-320", "abc", "1e",
-              "0x", "--1", "1.2.3", "-1", "-0.5", "1e300", "1e20", "1e21", "1e-11", "1e-9", "10",
-              "10.5", "1000", "1001", "0", "-0", "0.5", "0.50001", "-0.99", "-1.0", "0x1p3",
-              "1,5", "+", "1e+", "\uff19", "1_0", "NULL", "1e-300", "5e-324", "2.5", "7"]
+BAD_VALUES = ["nan", "NaN", "inf", "-inf", "Infinity", "1e309", "-1e309", "1e308", "1e-320",
+              "abc", "1e", "0x", "--1", "1.2.3", "-1", "-0.5", "1e300", "1e20", "1e21", "1e-11",
+              "1e-9", "10", "10.5", "1000", "1001", "0", "-0", "0.5", "0.50001", "-0.99", "-1.0",
+              "0x1p3", "1,5", "+", "1e+", "\uff19", "1_0", "NULL", "1e-300", "5e-324", "2.5", "7"]
 WORDS = ["damping", "tangential", "end", "alpha", "vref", "beta", "c0", "tau", "p", "particle",
          "wall_material", "mindlin", "none", "force", "overlap", "rigid", "KK", "hertz/material",
          "bogus", "NULL"]
@@ -80,6 +86,13 @@ def _valid(domain: str, text: str) -> bool:
         return False
     lo, hi, lo_open = DOMAINS[domain]
     return (v > lo if lo_open else v >= lo) and v <= hi
+
+
+def _plane_valid(lo: str, hi: str) -> bool:
+    """A plane wall's LO HI: each a finite number or NULL, not both NULL, LO < HI."""
+    if not (_valid("coord", lo) and _valid("coord", hi)) or lo == hi == "NULL":
+        return False
+    return "NULL" in (lo, hi) or _c_number(lo) < _c_number(hi)
 
 
 def _parse_base(base: str) -> list[tuple[str, str | None]]:
@@ -108,18 +121,10 @@ def make_lines(seed: int = SEED, n: int = N_LINES) -> list[dict]:
             idx = [i for i, (_, d) in enumerate(toks) if d is not None]
             i = idx[rng.integers(len(idx))]
             words[i] = BAD_VALUES[rng.integers(len(BAD_VALUES))]
+            # (NULL is a value only for plane coordinates; everywhere else the oracle says no)
             expect = _valid(toks[i][1], words[i])
-            if kind == "wall" and toks[i][1] == "coord" and words[i] == "NULL":
-                # both plane coordinates NULL, or LO >= HI, are refused; decided by the values
-                coords = [w for w, (_, d) in zip(words, toks) if d == "coord"]
-                nums = [_c_number(c) for c in coords if c != "NULL"]
-                expect = bool(nums) and (len(coords) == 1 or len(nums) < 2 or nums[0] < nums[1])
-            elif kind == "wall" and toks[i][1] == "coord" and expect:
-                coords = [_c_number(w) for w, (_, d) in zip(words, toks) if d == "coord"]
-                if len(coords) == 2:
-                    expect = coords[0] < coords[1]
-                elif words[i] and words[0] == "zplane":
-                    expect = True
+            if kind == "wall" and toks[i][1] == "coord":
+                expect = _plane_valid(words[1], words[2])
         elif op == 3:  # a token dropped
             del words[rng.integers(len(words))]
         elif op == 4:  # a word inserted

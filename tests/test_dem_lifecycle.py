@@ -36,9 +36,9 @@ atom_style sphere
 atom_modify map array
 boundary p p f
 newton {newton}
-comm_modify vel yes
 processors * 1 1
 {start}
+comm_modify vel yes
 {lines}
 fix g all gravity 9.81 vector 0 0 -1
 fix 1 all nve/sphere

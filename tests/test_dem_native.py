@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from dem_util import (
-    assert_ok, error_lines, needs_lammps, needs_mpirun, plugin_line, read_atoms, run_lmp,
+    MPIRUN, assert_ok, error_lines, needs_lammps, plugin_line, read_atoms, run_lmp, sphere_head,
 )
 
 pytestmark = needs_lammps
@@ -43,14 +43,7 @@ def _pair_lines(style: str, c0: float = 0.05, e: float = E, nu: float = NU) -> s
 
 
 # ------------------------------------------------------------------------ cutoff (item 1)
-_CUT = """\
-{plugin}
-units si
-atom_style sphere
-boundary p p f
-comm_modify vel yes
-region box block 0 {L} 0 {L} 0 {L}
-create_box 2 box
+_CUT = sphere_head("p p f", "0 {L} 0 {L} 0 {L}", 2) + """\
 {atoms}
 {pair}
 neighbor 0.001 bin
@@ -100,14 +93,7 @@ def test_cutoff_as_native(tmp_path, case):
     assert got["granular"][0] > 0.001  # more than the skin: the rule was exercised
 
 
-_POUR = """\
-{plugin}
-units si
-atom_style sphere
-boundary p p f
-comm_modify vel yes
-region box block 0 0.02 0 0.02 -0.005 0.15
-create_box 2 box
+_POUR = sphere_head("p p f", "0 0.02 0 0.02 -0.005 0.15", 2) + """\
 {pair}
 neighbor 0.0002 bin
 neigh_modify delay 0
@@ -141,7 +127,7 @@ def test_pour_into_empty_box_packs_like_native(tmp_path):
     most twice native's (the old cutoff from the atoms present, none, let spheres pass through
     each other: overlaps up to 84 % and a bed ten times too high), bed top within 20 %; on 1
     and 2 ranks."""
-    runs = [("granular", 1)] + [("viscontact", n) for n in (1, 2) if n == 1 or _has_mpirun()]
+    runs = [("granular", 1)] + [("viscontact", n) for n in (1, 2) if n == 1 or MPIRUN]
     res = {}
     for style, np_ in runs:
         out = f"pour.{style}.{np_}"
@@ -159,12 +145,6 @@ def test_pour_into_empty_box_packs_like_native(tmp_path):
         assert abs(got[3] - ref[3]) <= 0.2 * ref[3], (key, got, ref)
 
 
-def _has_mpirun() -> bool:
-    from dem_util import MPIRUN
-
-    return MPIRUN is not None
-
-
 def test_sphere_outgrowing_the_cutoff_is_an_error(tmp_path):
     """A sphere made larger between runs: a new run re-sizes the cutoff (runs); with `pre no`
     (no re-initialisation) the pair stops with one ERROR line instead of missing contacts."""
@@ -180,15 +160,7 @@ def test_sphere_outgrowing_the_cutoff_is_an_error(tmp_path):
 
 # ------------------------------------------------------------------- effective mass (item 2)
 R1, R2 = 0.001, 0.0015
-_MASS = """\
-{plugin}
-units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-comm_modify vel yes
-region box block -0.02 0.02 -0.02 0.02 -0.02 0.02
-create_box 1 box
+_MASS = sphere_head("f f f", "-0.02 0.02 -0.02 0.02 -0.02 0.02") + """\
 create_atoms 1 single 0 0 0
 create_atoms 1 single {x2:.17g} 0 0
 create_atoms 1 single {x3:.17g} 0 0
@@ -259,15 +231,7 @@ def test_effective_mass_as_native(tmp_path, case):
     assert np.abs(got - ref).max() <= 1e-10 * peak, np.abs(got - ref).max() / peak
 
 
-_SHOT = """\
-{plugin}
-units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-comm_modify vel yes
-region box block -0.02 0.02 -0.02 0.02 -0.02 0.02
-create_box 1 box
+_SHOT = sphere_head("f f f", "-0.02 0.02 -0.02 0.02 -0.02 0.02") + """\
 create_atoms 1 single 0 0 {z1:.17g}
 set atom 1 diameter {d:.17g} density {rho} vz {v:.17g}
 {target}
@@ -311,15 +275,7 @@ def test_target_e_on_frozen_sphere_and_wall(tmp_path, target):
 
 
 # --------------------------------------------------------------------------- mixing (item 3)
-_MIX = """\
-{plugin}
-units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-comm_modify vel yes
-region box block -0.05 0.05 -0.05 0.05 -0.05 0.05
-create_box 2 box
+_MIX = sphere_head("f f f", "-0.05 0.05 -0.05 0.05 -0.05 0.05", 2) + """\
 # pair A: types 1-1 at y = 0; pair B: types 1-2 at y = 0.02 (same geometry and velocities)
 create_atoms 1 single 0 0 0
 create_atoms 1 single {x2:.17g} 0 0
@@ -412,15 +368,8 @@ def test_mixed_mindlin_stiffness_documented_difference(tmp_path):
 #: one collision in SI, and the factors (length, mass, time) to another style's units
 UNITS = {"si": (1.0, 1.0, 1.0), "cgs": (100.0, 1000.0, 1.0), "lj": (1 / 0.002, 1 / 1e-5, 1 / 1e-4),
          "micro": (1e6, 1e15, 1e6), "nano": (1e9, 1e21, 1e9)}
-_UNIT_SHOT = """\
-{plugin}
-units {units}
-atom_style sphere
-atom_modify map array
-boundary f f f
-comm_modify vel yes
-region box block {lo:.17g} {hi:.17g} {lo:.17g} {hi:.17g} {lo:.17g} {hi:.17g}
-create_box 1 box
+_UNIT_SHOT = sphere_head("f f f", "{lo:.17g} {hi:.17g} {lo:.17g} {hi:.17g} {lo:.17g} {hi:.17g}",
+                         units="{units}") + """\
 create_atoms 1 single 0 0 {z1:.17g}
 create_atoms 1 single 0 {y2:.17g} {z1:.17g}
 set group all diameter {d:.17g} density {rho:.17g}

@@ -74,7 +74,8 @@ class EffectiveMass {
   /// m_i: the body's mass for an atom in a rigid body, else its own mass.
   double mass(int i, const double *rmass) const
   {
-    return (rigid && body_mass[i] > 0.0) ? body_mass[i] : rmass[i];
+    return (rigid && (size_t) i < body_mass.size() && body_mass[i] > 0.0) ? body_mass[i]
+                                                                           : rmass[i];
   }
 
   /// m* of the pair (i, j): the frozen partner counts as infinitely heavy.
