@@ -231,6 +231,38 @@ def test_effective_mass_as_native(tmp_path, case):
     assert np.abs(got - ref).max() <= 1e-10 * peak, np.abs(got - ref).max() / peak
 
 
+def test_wall_effective_mass_of_a_rigid_body_as_native(tmp_path):
+    """A rigid body of two spheres falls onto a floor: fix viscontact/wall with Ts alpha (m* =
+    the body's mass) against native fix wall/gran tsuji, forces on every dumped step to 1e-10
+    of the peak (wall_material E NU particle E NU is native's one-material wall)."""
+    from viscontact.audit.formulas import tsuji_polynomial
+
+    walls = {
+        "granular": (f"fix w all wall/gran granular hertz/material {E} {E_TSUJI} {NU} damping tsuji "
+                     f"tangential mindlin NULL 0 0.5 zplane {-R2 - 1e-5!r} NULL"),
+        "viscontact": (f"fix w all viscontact/wall zplane {-R2 - 1e-5!r} NULL wall_material {E} "
+                       f"{NU} damping Ts alpha {tsuji_polynomial(E_TSUJI)!r} vref 1 tangential "
+                       f"mindlin 0.5 particle {E} {NU}"),
+    }
+    forces = {}
+    for style, wall in walls.items():
+        out = f"wallmass.{style}"
+        script = _MASS.format(plugin=plugin_line(), x2=0.005, x3=0.005 + 2 * R2, d1=2 * R1,
+                              d2=2 * R2, v=0.0, vt=0.0, out=out,
+                              pair="pair_style zero 0.01\npair_coeff * *",
+                              fixes=("set group bc vz -0.5 vx 0.1\nfix rb bc rigid single\n"
+                                     + wall))
+        proc = run_lmp(script.replace("create_atoms 1 single 0 0 0\n",
+                                      "create_atoms 1 single 0 0 0.01\n"), tmp_path,
+                       name=f"in.{out}")
+        assert_ok(proc)
+        forces[style] = _frames(tmp_path / out)
+    ref, got = forces["granular"], forces["viscontact"]
+    peak = np.abs(ref).max()
+    assert peak > 0 and np.count_nonzero(np.abs(ref[:, 1, 2]) > 0.1 * peak) >= 3
+    assert np.abs(got - ref).max() <= 1e-10 * peak, np.abs(got - ref).max() / peak
+
+
 _SHOT = sphere_head("f f f", "-0.02 0.02 -0.02 0.02 -0.02 0.02") + """\
 create_atoms 1 single 0 0 {z1:.17g}
 set atom 1 diameter {d:.17g} density {rho} vz {v:.17g}
