@@ -353,6 +353,13 @@ BAD = [
      "alpha given twice"),
     ("hertz/material 1e7 0.3 damping Jian c0 5 tangential none", "damping Jian with c0 needs tau S"),
     ("hertz/material 1e7 0.3 damping KK alpha 0.3 vref 1 tangential mindlin", "mindlin needs MU"),
+    # issue 18: accepted before, then NaN, atoms lost through a wall, or no repulsion at all
+    ("hertz/material 1e7 0.3 damping power p 1e308 c0 1 tangential none",
+     "p must be a finite number in [0, 10], got '1e308'"),
+    ("hertz/material 1e308 0.3 damping KK alpha 0.3 vref 1 tangential none",
+     "E must be a finite number in [1e-10, 1e+20], got '1e308'"),
+    ("hertz/material 1e-320 0.3 damping KK alpha 0.3 vref 1 tangential none",
+     "E must be a finite number in [1e-10, 1e+20], got '1e-320'"),
 ]
 
 
