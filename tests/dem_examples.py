@@ -95,14 +95,19 @@ class Run:
 
 
 def run_example(base: Path, name: str, law: str, variables: dict, *, np_: int = 1,
-                tag: str | None = None, kk_diameter: float | None = None) -> Run:
+                tag: str | None = None, kk_diameter: float | None = None,
+                resume: Run | None = None) -> Run:
     """Run ``in.NAME`` with ``-var law LAW`` and ``variables`` in a fresh copy of the examples
-    directory ``base/TAG`` (plugin loaded first, as ``viscontact dem run`` does)."""
+    directory ``base/TAG`` (plugin loaded first, as ``viscontact dem run`` does).  ``resume``:
+    an earlier run whose saved bed (``NAME.bed``) the second phase starts from."""
     d = base / (tag or f"{name}.{law}.{np_}")
     if d.exists():
         shutil.rmtree(d)
     shutil.copytree(EXAMPLES, d)
     write_equivalent_laws(d, kk_diameter)
+    if resume is not None:
+        shutil.copy(resume.directory / f"{name}.bed", d)
+        variables = {**variables, "resume": 1}
     script = f"{plugin_line()}\ninclude in.{name}\n"
     proc = run_lmp(script, d, np=np_, variables={"law": law, **variables}, name="in.run")
     assert_ok(proc)
@@ -140,8 +145,12 @@ def _pairs(frame) -> tuple[np.ndarray, np.ndarray]:
 
 
 def contacts(frame) -> int:
-    """Number of touching sphere pairs."""
-    return len(_pairs(frame)[1])
+    """Number of touching sphere pairs: overlap above 1e-7 of the smaller diameter (a frozen
+    lattice of spheres one diameter apart touches at zero overlap, which rounding makes +-1e-18
+    m: not a contact)."""
+    pairs, overlap = _pairs(frame)
+    rad = frame["radius"]
+    return int(np.count_nonzero(overlap > 2e-7 * np.minimum(rad[pairs[:, 0]], rad[pairs[:, 1]])))
 
 
 def max_overlap(frame) -> float:

@@ -21,7 +21,7 @@ steps of 1e-5 s.
 from __future__ import annotations
 
 import shutil
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import pytest
@@ -42,8 +42,11 @@ class Case:
 
     Attributes:
         name: ``in.NAME``; variables: ``-var`` values (size, steps, dump interval);
-        windows: (first, last) step of each contact-rich phase's first frames, where forces
-        must equal native's; the settled bed is the last frame.
+        windows: (first, last) step of the first frames of the pour's contact-rich phase, where
+        forces must equal native's; the settled bed is the last frame.
+        resumed: steps of the second phase (turning drum, running funnel, mixing), started by
+        native and plugin from the bed native saved after its fill (``-var resume 1``); all of
+        its frames must hold native's forces.  0: one phase only.
         seeds: pour seeds of native's two runs; equiv: the laws compared with native.
         kk_diameter: sphere diameter when one size (KK's equivalence holds), else None.
     """
@@ -51,21 +54,21 @@ class Case:
     name: str
     variables: dict
     windows: tuple
+    resumed: int = 0
     seeds: tuple = (1, 2)
     equiv: tuple = ("LH",)
     kk_diameter: float | None = None
-    extra: dict = field(default_factory=dict)
 
 
 CASES = [
     Case("pour.flat", {"n": 200, "w": 0.05, "h": 0.15, "steps": 24000, "every": 500},
          windows=((12000, 13500),), equiv=("LH", "Ts")),
     Case("pour.drum", {"n": 200, "fill": 12000, "steps": 8000, "every": 500},
-         windows=((9000, 12000), (12000, 13500))),
-    Case("pour.funnel", {"n": 200, "fill": 8000, "steps": 8000, "every": 500},
-         windows=((6500, 8000), (8000, 8500))),
+         windows=((2000, 4000),), resumed=2500, equiv=("LH", "Ts")),
+    Case("pour.funnel", {"n": 200, "fill": 12000, "steps": 8000, "every": 500},
+         windows=((5000, 6500),), resumed=2500),
     Case("mixer", {"n": 250, "fill": 8000, "steps": 6000, "every": 500},
-         windows=((6000, 8000), (8000, 9000)), equiv=("LH", "KK"), kk_diameter=0.01),
+         windows=((6000, 8000),), resumed=2500, equiv=("LH", "KK"), kk_diameter=0.01),
     Case("pour.2d", {"n": 150, "w": 0.15, "steps": 30000, "every": 500},
          windows=((21000, 23000),)),
     Case("bed.frozen", {"n": 150, "w": 0.05, "steps": 24000, "every": 500},
@@ -83,14 +86,30 @@ def _run(tmp, case: Case, law: str, seed: int, np_: int = 1, tag: str | None = N
 
 
 @pytest.fixture(scope="module", params=CASES, ids=IDS)
-def flows(request, tmp_path_factory):
-    """Native (two seeds) and plugin (LH c0, first seed) runs of one example."""
+def native(request, tmp_path_factory):
+    """Native runs of one example with its two pour seeds: (case, directory, run, run)."""
     case = request.param
     tmp = tmp_path_factory.mktemp(case.name)
     nat = _run(tmp, case, "nat-LH", case.seeds[0], tag="nat")
     other = _run(tmp, case, "nat-LH", case.seeds[1], tag="nat-seed2")
-    ours = _run(tmp, case, "vc-LH", case.seeds[0], tag="vc")
-    return case, tmp, nat, other, ours
+    return case, tmp, nat, other
+
+
+@pytest.fixture(scope="module")
+def flows(native):
+    """The native runs and the plugin's (LH c0, first seed): (case, directory, native run,
+    native run of the second seed, plugin run)."""
+    case, tmp, nat, other = native
+    return case, tmp, nat, other, _run(tmp, case, "vc-LH", case.seeds[0], tag="vc")
+
+
+def _resumed_differences(tmp, case: Case, law: str, bed) -> list:
+    """Native and plugin (law X: ``nat-X``, ``vc-X``) run the second phase from native's bed;
+    the force differences of every frame (every 100 steps)."""
+    variables = {**case.variables, "steps": case.resumed, "every": 100}
+    runs = [X.run_example(tmp, case.name, f"{side}-{law}", variables, tag=f"{side}-{law}-resumed",
+                          kk_diameter=case.kk_diameter, resume=bed) for side in ("nat", "vc")]
+    return X.force_differences(*runs)
 
 
 def _window_frames(case: Case, diffs):
@@ -133,14 +152,34 @@ def test_settled_overlaps_as_native(flows):
     assert mine <= max(seeds) + abs(seeds[0] - seeds[1]), (mine, seeds)
 
 
-@pytest.mark.parametrize("case", [c for c in CASES if len(c.equiv) > 1], ids=lambda c: c.name)
-def test_other_equivalences(case, tmp_path):
+def test_second_phase_forces_equal_native(native):
+    """The turning drum, the running funnel, the mixing: native and plugin both start from the
+    bed native saved after its fill (tangential history starts from zero in both)."""
+    case, tmp, nat, _ = native
+    if not case.resumed:
+        pytest.skip(f"{case.name} has one phase")
+    rows = _resumed_differences(tmp, case, "LH", nat)
+    worst = max(r[2] for r in rows)
+    print(f"{case.name}: second phase, LH c0 vs native velocity, max force/torque difference "
+          f"{worst:.1e} over {case.resumed} steps, {min(r[1] for r in rows)} to "
+          f"{max(r[1] for r in rows)} contacts")
+    assert min(r[1] for r in rows) >= 10 and worst <= FORCE_TOL, rows
+
+
+def test_other_equivalences(native):
     """Ts alpha = native tsuji (any sizes and masses, frozen partners included) and KK c0 =
-    native viscoelastic (one size): forces in the windows as for LH."""
+    native viscoelastic (one size): forces as for LH, in the pour's first contact-rich frames,
+    or over the second phase started from a native bed."""
+    case, tmp_path, nat, _ = native
+    if len(case.equiv) == 1:
+        pytest.skip(f"{case.name}: LH only")
     for law in case.equiv[1:]:
-        nat = _run(tmp_path, case, f"nat-{law}", case.seeds[0], tag=f"nat-{law}")
-        ours = _run(tmp_path, case, f"vc-{law}", case.seeds[0], tag=f"vc-{law}")
-        rows = _window_frames(case, X.force_differences(nat, ours))
+        if case.resumed:
+            rows = _resumed_differences(tmp_path, case, law, nat)
+        else:
+            runs = [_run(tmp_path, case, f"{side}-{law}", case.seeds[0], tag=f"{side}-{law}")
+                    for side in ("nat", "vc")]
+            rows = _window_frames(case, X.force_differences(*runs))
         worst = max(r[2] for r in rows)
         print(f"{case.name}: {law} vs native, max force/torque difference {worst:.1e}")
         assert worst <= FORCE_TOL, (law, rows)
@@ -169,10 +208,10 @@ def test_two_ranks_as_native(flows):
 
 
 @pytest.mark.parametrize("law", SHIPPED)
-def test_every_law_runs_sane(flows, law):
+def test_every_law_runs_sane(native, law):
     """The shipped law file runs the example through dem.run_input to the end; the same atoms
     as native, the bed's height and its overlaps within what native shows."""
-    case, tmp, nat, other, _ = flows
+    case, tmp, nat, other = native
     d = tmp / f"law-{law}"
     if d.exists():
         shutil.rmtree(d)
