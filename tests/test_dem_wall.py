@@ -258,9 +258,9 @@ BAD = [
     ("zplane NULL NULL", "LO and HI cannot both be NULL"),
     ("zplane 1.0 0.5", "LO must be below HI"),
     ("zplane abc NULL", "zplane LO must be a finite coordinate or NULL"),
-    ("zcylinder -1", "zcylinder R must be a finite number > 0"),
-    (GOOD.replace("rigid", "1e7 0.7"), "wall_material nu must be in (-1, 0.5]"),
-    (GOOD.replace("rigid", "-1e7 0.3"), "wall_material E must be a finite number > 0"),
+    ("zcylinder -1", "zcylinder R must be a finite number in (0, 1e+300]"),
+    (GOOD.replace("rigid", "1e7 0.7"), "wall_material nu must be a finite number in (-1, 0.5]"),
+    (GOOD.replace("rigid", "-1e7 0.3"), "wall_material E must be a finite number in [1e-10, 1e+20]"),
     (GOOD.replace("wall_material rigid ", ""), "missing wall_material"),
     (GOOD + " foo 1", "unknown keyword 'foo'"),
     (GOOD.replace("zplane 0.0 NULL", "zcylinder 0.5"), None),
@@ -273,16 +273,16 @@ BAD = [
     (GOOD.replace("KK", "Jian"), "damping Jian with alpha needs beta B"),
     (GOOD.replace("alpha 0.2 vref 1.0", "c0 3"), None),    # good: c0 form
     (GOOD.replace("KK alpha 0.2 vref 1.0", "Jian c0 3"), "damping Jian with c0 needs tau S"),
-    (GOOD.replace("alpha 0.2", "alpha -0.2"), "alpha must be a finite number >= 0"),
-    (GOOD.replace("vref 1.0", "vref 0"), "vref must be a finite number > 0"),
+    (GOOD.replace("alpha 0.2", "alpha -0.2"), "alpha must be a finite number in [0, 1000]"),
+    (GOOD.replace("vref 1.0", "vref 0"), "vref must be a finite number in (0, 1e+300]"),
     (GOOD.replace("mindlin 0.3", "mindlin -0.1"),
-     "tangential mindlin MU must be a finite number >= 0"),
+     "tangential mindlin MU must be a finite number in [0, 10]"),
     (GOOD.replace("tangential mindlin 0.3", "tangential coulomb"),
      "tangential must be followed by none or mindlin MU"),
     (GOOD.replace(" tangential mindlin 0.3", ""), "missing tangential"),
     (GOOD.replace("end force", "end sideways"), "end must be followed by force"),
     (GOOD.replace("damping KK alpha 0.2 vref 1.0 ", ""), "missing damping LAW"),
-    (GOOD.replace("particle 1e7 0.3", "particle 1e7 0.6"), "particle nu must be in (-1, 0.5]"),
+    (GOOD.replace("particle 1e7 0.3", "particle 1e7 0.6"), "particle nu must be a finite number in (-1, 0.5]"),
     (GOOD + " particle 1e7 0.3", "particle given twice"),
     (GOOD + " damping KK alpha 0.1 vref 1", "damping given twice"),
 ]
@@ -327,7 +327,8 @@ def test_bad_wall_input_one_error(args, message):
 
 
 @pytest.mark.parametrize("kw,message", [
-    (dict(units="lj"), "requires units si"),
+    (dict(pair="fix p all property/atom temperature heatflow\nfix hf all heat/flow constant 1"),
+     "fix viscontact/wall does not conduct heat; fix hf (heat/flow)"),
     (dict(style="atomic", nve=""), "requires atom_style sphere"),
     (dict(zb="p"), "zplane cannot be used in a periodic dimension"),
 ])
@@ -371,7 +372,7 @@ def test_lmp_executable_one_error_line(tmp_path):
     proc = run_lmp(script, tmp_path)
     errs = error_lines(proc)
     assert proc.returncode != 0 and len(errs) == 1, (proc.returncode, errs)
-    assert "tangential mindlin MU must be a finite number >= 0, got '-0.1'" in errs[0]
+    assert "tangential mindlin MU must be a finite number in [0, 10], got '-0.1'" in errs[0]
 
 
 # ---- the same as LAMMPS's own fix wall/gran where a native damping equals ours ------------------

@@ -12,6 +12,7 @@
 #include "pair_viscontact.h"
 #include "viscontact_contact.h"
 
+#include <cstdlib>
 #include <cstring>
 
 using namespace LAMMPS_NS;
@@ -36,6 +37,9 @@ FixViscontactHistory::FixViscontactHistory(LAMMPS *lmp, int narg, char **arg) :
 
 FixViscontactHistory::~FixViscontactHistory()
 {
+  // deleted by unfix or plugin unload while the pair still exists: tell it (its next run stops
+  // with an error instead of using a dangling pointer)
+  if (pair) pair->history_fix_deleted();
   atom->delete_callback(id, Atom::GROW);
   atom->delete_callback(id, Atom::RESTART);
 }
@@ -47,7 +51,13 @@ int FixViscontactHistory::setmask()
 
 void FixViscontactHistory::init()
 {
+  if (!pair)
+    error->all(FLERR, "fix VISCONTACT_HISTORY is internal to pair viscontact; do not define it");
   if (atom->tag_enable == 0) error->all(FLERR, "pair viscontact requires atom IDs");
+  // negative control for the tests only (not part of the input syntax): every contact forgets
+  // its history at each neighbour-list build
+  const char *drop = std::getenv("VISCONTACT_TEST_DROP_HISTORY");
+  drop_history = (drop && std::strcmp(drop, "1") == 0) ? 1 : 0;
   if (force->newton_pair != newton_pair)
     error->all(FLERR, "pair viscontact: the newton pair setting changed after the first run");
   // atoms that another fix moves in its pre_exchange must carry current partner lists
@@ -84,7 +94,7 @@ void FixViscontactHistory::update_maxexchange()
    Needs the per-neighbour arrays to match the current atom order (list_valid). */
 void FixViscontactHistory::store_partners()
 {
-  if (!list_valid) return;
+  if (!list_valid || !pair) return;
   NeighList *list = pair->list;
   // atom counts of the list (a fix before this one may have added atoms in its pre_exchange)
   const int nlocal = nlocal_neigh;
@@ -152,6 +162,7 @@ void FixViscontactHistory::setup_post_neighbor()
 /* Per-atom partner lists -> per-neighbour arrays of the list just built. */
 void FixViscontactHistory::post_neighbor()
 {
+  if (!pair) return;
   NeighList *list = pair->list;
   const int nall = atom->nlocal + atom->nghost;
   nlocal_neigh = atom->nlocal;

@@ -59,7 +59,7 @@ class FixViscontactHistory : public Fix {
   bool ready() const { return list_valid; }
 
   PairViscontact *pair;
-  int drop_history;    ///< negative control only: forget every contact at each rebuild
+  int drop_history;    ///< negative control of the tests ($VISCONTACT_TEST_DROP_HISTORY=1)
 
  private:
   int dnum;                                  // values per contact

@@ -5,6 +5,7 @@
 
 #include "atom.h"
 #include "domain.h"
+#include "neighbor.h"
 #include "error.h"
 #include "force.h"
 #include "memory.h"
@@ -71,7 +72,8 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
     wallstyle = ZCYLINDER;
     nwall = 1;
     if (narg < 5) fail("zcylinder needs its radius R (> 0)");
-    const std::string err = viscontact::parse_number("zcylinder R", arg[4], true, cylradius);
+    const std::string err =
+        viscontact::parse_number("zcylinder R", arg[4], viscontact::POSITIVE_DOMAIN, cylradius);
     if (!err.empty()) fail(err);
     if (domain->xperiodic || domain->yperiodic)
       fail("zcylinder cannot be used with periodic x or y");
@@ -101,7 +103,7 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
         i += 2;
       } else {
         if (i + 2 >= args.size())
-          fail("wall_material needs E NU (E > 0 Pa, NU in (-1, 0.5]) or rigid");
+          fail("wall_material needs E NU (E in [1e-10, 1e20], NU in (-1, 0.5]) or rigid");
         err = viscontact::parse_material("wall_material E", "wall_material nu", args[i + 1],
                                          args[i + 2], wall_E, wall_nu);
         if (!err.empty()) fail(err);
@@ -109,7 +111,7 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       }
     } else if (args[i] == "particle") {
       if (has_particle) fail("particle given twice");
-      if (i + 2 >= args.size()) fail("particle needs E NU (E > 0 Pa, NU in (-1, 0.5])");
+      if (i + 2 >= args.size()) fail("particle needs E NU (E in [1e-10, 1e20], NU in (-1, 0.5])");
       err = viscontact::parse_material("particle E", "particle nu", args[i + 1], args[i + 2],
                                        particle_E, particle_nu);
       if (!err.empty()) fail(err);
@@ -161,9 +163,8 @@ int FixWallViscontact::setmask()
 
 void FixWallViscontact::init()
 {
-  if (std::strcmp(update->unit_style, "si") != 0)
-    fail(std::string("requires units si (the laws' c0 and vref are SI), got units ") +
-         update->unit_style);
+  viscontact::refuse_heat(lmp, "fix viscontact/wall");
+  masses.init(lmp, "fix viscontact/wall");
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
     fail("requires atom_style sphere (radius, rmass, omega, torque)");
   if (utils::strmatch(update->integrate_style, "^respa")) fail("does not support run_style respa");
@@ -176,8 +177,8 @@ void FixWallViscontact::init()
   MPI_Allreduce(here.data(), present.data(), ntypes + 1, MPI_INT, MPI_MAX, world);
 
   auto *pair = dynamic_cast<PairViscontact *>(force->pair_match("viscontact", 1));
-  const double inv_E_wall = wall_rigid ? 0.0 : viscontact::inverse_Estar_term(wall_E, wall_nu);
-  const double inv_G_wall = wall_rigid ? 0.0 : viscontact::inverse_Gstar_term(wall_E, wall_nu);
+  // a rigid wall is an infinitely stiff material: its terms of 1/E* and 1/G* vanish
+  const double Ewall = wall_rigid ? INFINITY : wall_E;
   type_law.assign(ntypes + 1, law);
   for (int t = 1; t <= ntypes; t++) {
     double E = particle_E, nu = particle_nu;
@@ -189,8 +190,8 @@ void FixWallViscontact::init()
       type_law[t].Estar = type_law[t].Gstar = 0.0;    // an error if it ever touches the wall
       continue;
     }
-    type_law[t].Estar = 1.0 / (viscontact::inverse_Estar_term(E, nu) + inv_E_wall);
-    type_law[t].Gstar = 1.0 / (viscontact::inverse_Gstar_term(E, nu) + inv_G_wall);
+    type_law[t].Estar = viscontact::mix_Estar(E, nu, Ewall, wall_nu);
+    type_law[t].Gstar = viscontact::mix_Gstar(E, nu, Ewall, wall_nu);
   }
   cache.assign(1 << CACHE_BITS, Coeffs());    // the materials may have changed
 }
@@ -205,6 +206,10 @@ const viscontact::ContactCoeffs &FixWallViscontact::coeffs(int type, double m, d
   Coeffs &c = cache[(key * 0xD6E8FEB86659FD93ULL) >> (64 - CACHE_BITS)];
   if (c.type != type || c.m != m || c.r != r) {    // wall: m* = m, R* = r
     c.cc = viscontact::contact_coeffs(type_law[type], m, r);
+    if (!viscontact::coeffs_finite(c.cc))
+      error->one(FLERR, std::string(PREFIX) + "a sphere of type " + std::to_string(type) +
+                            " gets " + viscontact::describe_coeffs(c.cc) + "; the values are "
+                            "too extreme for its size and mass in this units style");
     c.type = type;
     c.m = m;
     c.r = r;
@@ -257,11 +262,15 @@ void FixWallViscontact::contact(int i, int w, double delta, const double n[3],
     h[1] = h[2] = h[3] = 0.0;
     h[4] = viscontact::contact_start_time(t_now, dt, delta, ddelta);
   }
-  const viscontact::ContactCoeffs &cc = coeffs(atom->type[i], atom->rmass[i], r);
+  const viscontact::ContactCoeffs &cc = coeffs(atom->type[i], masses.mass(i, atom->rmass), r);
   const double fn = viscontact::clamp_normal(
       viscontact::normal_force(delta, ddelta, viscontact::contact_clock(t_now, h[4]), cc.k, cc.c0,
                                cc.tau, lp.p),
       lp.clamp);
+  if (!std::isfinite(fn))
+    error->one(FLERR, std::string(PREFIX) + "the normal force on atom " +
+                          std::to_string(atom->tag[i]) + " is not finite (overlap " +
+                          std::to_string(delta) + "); check the time step and the values");
 
   double ft[3] = {0.0, 0.0, 0.0};
   if (lp.friction) {
@@ -298,6 +307,7 @@ void FixWallViscontact::post_force(int /*vflag*/)
 
   wallforce[0] = wallforce[1] = wallforce[2] = 0.0;
   wallforce_summed = false;
+  if (neighbor->ago == 0) masses.refresh(atom);    // rigid-body masses of the local atoms
 
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;

@@ -6,14 +6,16 @@
                       | zcylinder R          (inner wall of the cylinder x^2 + y^2 = R^2)
        FORM, TANG as in pair viscontact (viscontact_keywords.h)
 
-   Sphere-wall contact (SPEC section 9): R* = r, m* = m, 1/E* = (1-nu_p^2)/E_p + (1-nu_w^2)/E_w,
+   Sphere-wall contact (SPEC sections 9, 10.8): R* = r, m* = m (the body's mass for a sphere in
+   a rigid body), 1/E* = (1-nu_p^2)/E_p + (1-nu_w^2)/E_w,
    1/G* = (2-nu_p)/G_p + (2-nu_w)/G_w (rigid wall: its terms are 0).  The particle's E, nu come
    from `particle E NU`, else from pair viscontact's `pair_coeff I I`.  The force law, c0 and tau
    per contact, the clamp, the Jian clock and the Mindlin step are those of
    viscontact_contact.h, exactly as in the pair style.  The cylinder is treated like a plane
    tangent at the contact point (R* = r, as LAMMPS fix wall/gran does).  Walls are static; the
    friction torque acts with the arm r, as in fix wall/gran (for KK, LAMMPS's `viscoelastic`,
-   the two fixes agree to rounding: tests/test_dem_wall.py).  Requires units si.
+   the two fixes agree to rounding: tests/test_dem_wall.py).  Any units style: each value in
+   the style's units (docs/pair_viscontact.md).
 
    History per atom and wall: touch flag, tangential displacement xi[3], contact start time;
    it migrates with the atom and is written to restart files.  A run's setup reads it and
@@ -26,6 +28,7 @@
 
 #include "fix.h"
 #include "viscontact_contact.h"
+#include "viscontact_lammps.h"
 
 #include <cstdint>
 #include <string>
@@ -85,6 +88,8 @@ class FixWallViscontact : public Fix {
   static constexpr int HIST = 1 + viscontact::HISTORY_SIZE;
   int nvalues;
   double **history;
+
+  viscontact::EffectiveMass masses;    // m* = the sphere's (or its rigid body's) mass
 
   double wallforce[3], wallforce_all[3];
   bool wallforce_summed;

@@ -30,8 +30,8 @@ static const char *const HISTORY_ID = "VISCONTACT_HISTORY";
 static const char *const DUMMY_ID = "VISCONTACT_HISTORY_DUMMY";
 
 PairViscontact::PairViscontact(LAMMPS *lmp) :
-    Pair(lmp), params(nullptr), Ein(nullptr), nuin(nullptr), drop_history(0), need_history(0),
-    fix_history(nullptr)
+    Pair(lmp), params(nullptr), Ein(nullptr), nuin(nullptr), need_history(0),
+    history_lost(false), radii_checked_run{-1, -1}, fix_history(nullptr)
 {
   single_enable = 1;
   single_extra = 4;    // F_t (x, y, z) and the overlap, for compute pair/local p1..p4
@@ -40,6 +40,7 @@ PairViscontact::PairViscontact(LAMMPS *lmp) :
   finitecutflag = 1;
   beyond_contact = 0;
   no_virial_fdotr_compute = 1;
+  comm_forward = 1;    // rigid-body masses of ghost atoms
   // a placeholder at this point of the fix list (replaced by the history fix in init_style), so
   // the history fix comes before fixes defined later that migrate atoms (fix balance)
   if (domain->box_exist && !modify->get_fix_by_id(HISTORY_ID) && !modify->get_fix_by_id(DUMMY_ID))
@@ -59,7 +60,10 @@ PairViscontact::~PairViscontact()
     for (int i = 0; i <= atom->ntypes; i++) delete[] params[i];
     delete[] params;
   }
-  if (fix_history && modify->get_fix_by_id(HISTORY_ID)) modify->delete_fix(HISTORY_ID);
+  if (fix_history && modify->get_fix_by_id(HISTORY_ID)) {
+    fix_history->pair = nullptr;    // no call back into this half-destroyed pair
+    modify->delete_fix(HISTORY_ID);
+  }
   if (modify->get_fix_by_id(DUMMY_ID)) modify->delete_fix(DUMMY_ID);
 }
 
@@ -79,7 +83,8 @@ void PairViscontact::allocate()
       Ein[i][j] = nuin[i][j] = 0.0;
     }
   }
-  maxrad.assign(n + 1, 0.0);
+  maxrad_dynamic.assign(n + 1, 0.0);
+  maxrad_frozen.assign(n + 1, 0.0);
 }
 
 void PairViscontact::fail(const std::string &msg)
@@ -90,14 +95,10 @@ void PairViscontact::fail(const std::string &msg)
 
 void PairViscontact::settings(int narg, char **arg)
 {
-  drop_history = 0;
-  for (int i = 0; i < narg; i++) {
-    if (strcmp(arg[i], "drop_history") == 0)
-      drop_history = 1;
-    else
-      fail(fmt::format("pair viscontact: unknown pair_style option '{}' (allowed: none, or "
-                       "drop_history, a negative control for tests)", arg[i]));
-  }
+  history_lost = false;    // a new pair_style line: the next init starts a fresh history fix
+  if (narg > 0)
+    fail(fmt::format("pair viscontact: pair_style viscontact takes no options, got '{}' (the "
+                     "cutoff follows the particle sizes, as pair granular's)", arg[0]));
 }
 
 /* pair_coeff I J hertz/material E NU <law keywords>; the law keywords (damping LAW [p P] FORM
@@ -110,7 +111,7 @@ void PairViscontact::parse_coeff(int narg, char **arg, vc::LawParams &lp, double
     fail(fmt::format("pair viscontact: expected 'hertz/material E NU' after the two types, got "
                      "'{}'", narg < 3 ? "" : arg[2]));
   if (narg < 5) fail("pair viscontact: hertz/material needs two values, E and NU");
-  std::string err = vc::parse_material("E (Pa)", "nu", args[3], args[4], E, nu);
+  std::string err = vc::parse_material("E", "nu", args[3], args[4], E, nu);
   if (!err.empty()) fail("pair viscontact: " + err);
 
   vc::LawKeywords kw;
@@ -166,6 +167,12 @@ void PairViscontact::init_style()
     fail("pair viscontact requires atom_style sphere (per-atom radius, rmass, omega, torque)");
   if (comm->ghost_velocity == 0) fail("pair viscontact requires 'comm_modify vel yes'");
 
+  viscontact::refuse_heat(lmp, "pair viscontact");
+  if (history_lost)
+    fail("pair viscontact: its contact-history fix " + std::string(HISTORY_ID) + " was deleted "
+         "(unfix or plugin unload); give pair_style viscontact and its pair_coeff lines again to "
+         "start with fresh contacts");
+  masses.init(lmp, "pair viscontact");
   neighbor->add_request(this, NeighConst::REQ_SIZE);
   coeff_cache.assign(1 << COEFF_CACHE_BITS, CoeffCache());    // coefficients may have changed
 
@@ -190,26 +197,65 @@ void PairViscontact::init_style()
     if (fix_history->pair && fix_history->pair != this)
       fail("pair viscontact can be used once per simulation (not twice under pair hybrid)");
   }
-  if (fix_history) {
-    fix_history->pair = this;
-    fix_history->drop_history = drop_history;
-  }
+  if (fix_history) fix_history->pair = this;
+  set_cutoff_radii();
+}
 
-  // largest radius per type: cutoff r_i + r_j for the neighbour lists and ghost atoms
-  std::vector<double> local(n + 1, 0.0);
+/* The radii the cutoff must cover (SPEC 10.7, native pair granular's rule): per type, the
+   largest radius that fix pour or fix deposit will insert (`extract("radius", type)`; pours
+   first, then deposits, a later positive value overwriting an earlier one), raised to the
+   largest radius of the moving atoms present; separately the largest radius of frozen atoms
+   (fix freeze).  Maxima over all ranks. */
+void PairViscontact::set_cutoff_radii()
+{
+  const int n = atom->ntypes;
+  std::vector<double> dyn(n + 1, 0.0), frz(n + 1, 0.0);
+  std::vector<Fix *> inserters = modify->get_fix_by_style("^pour");
+  for (Fix *f : modify->get_fix_by_style("^deposit")) inserters.push_back(f);
+  for (Fix *f : inserters) {
+    for (int t = 1; t <= n; t++) {
+      int itype = t;
+      const auto *r = static_cast<const double *>(f->extract("radius", itype));
+      if (r && *r > 0.0) dyn[t] = *r;
+    }
+  }
   const double *radius = atom->radius;
-  const int *type = atom->type;
-  for (int i = 0; i < atom->nlocal; i++) local[type[i]] = MAX(local[type[i]], radius[i]);
-  maxrad.assign(n + 1, 0.0);
-  MPI_Allreduce(local.data(), maxrad.data(), n + 1, MPI_DOUBLE, MPI_MAX, world);
+  const int *type = atom->type, *mask = atom->mask;
+  for (int i = 0; i < atom->nlocal; i++) {
+    std::vector<double> &slot = (mask[i] & masses.freeze_bit) ? frz : dyn;
+    slot[type[i]] = MAX(slot[type[i]], radius[i]);
+  }
+  maxrad_dynamic.assign(n + 1, 0.0);
+  maxrad_frozen.assign(n + 1, 0.0);
+  MPI_Allreduce(dyn.data(), maxrad_dynamic.data(), n + 1, MPI_DOUBLE, MPI_MAX, world);
+  MPI_Allreduce(frz.data(), maxrad_frozen.data(), n + 1, MPI_DOUBLE, MPI_MAX, world);
+}
+
+/* A sphere larger than its type's radius in the cutoff (grown by `set ... diameter` before a
+   `run ... pre no`, fix adapt, or an insertion fix that does not report its radius) could miss
+   contacts with ghost atoms: stop instead (checked at each neighbour-list build). */
+void PairViscontact::check_radii() const
+{
+  const double *radius = atom->radius;
+  const int *type = atom->type, *mask = atom->mask;
+  for (int i = 0; i < atom->nlocal; i++) {
+    const int t = type[i];
+    const double limit = (mask[i] & masses.freeze_bit) ? MAX(maxrad_dynamic[t], maxrad_frozen[t])
+                                                      : maxrad_dynamic[t];
+    if (radius[i] > limit)
+      error->one(FLERR, fmt::format("pair viscontact: atom {} (type {}) has radius {} but the "
+                                    "interaction cutoff was set at the last run's start for at "
+                                    "most {}; start a new run (not 'pre no') after changing sizes, "
+                                    "or insert with fix pour or fix deposit", atom->tag[i], t,
+                                    radius[i], limit));
+  }
 }
 
 double PairViscontact::init_one(int i, int j)
 {
   if (setflag[i][j] == 0) {
     const vc::LawParams &a = params[i][i], &b = params[j][j];
-    if (a.law != b.law || a.p != b.p || a.by_alpha != b.by_alpha || a.clamp != b.clamp ||
-        a.friction != b.friction)
+    if (a.law != b.law || a.p != b.p || a.by_alpha != b.by_alpha || a.friction != b.friction)
       fail(fmt::format("pair viscontact: types {} and {} use different laws; give pair_coeff {} {} "
                        "explicitly", i, j, i, j));
     vc::LawParams m = a;
@@ -220,12 +266,21 @@ double PairViscontact::init_one(int i, int j)
     m.c0 = geo(a.c0, b.c0);
     m.tau = geo(a.tau, b.tau);
     m.mu = geo(a.mu, b.mu);
+    m.clamp = a.clamp || b.clamp;    // native: the larger limit_damping
     m.Estar = vc::mix_Estar(Ein[i][i], nuin[i][i], Ein[j][j], nuin[j][j]);
     m.Gstar = vc::mix_Gstar(Ein[i][i], nuin[i][i], Ein[j][j], nuin[j][j]);
     params[i][j] = m;
   }
   params[j][i] = params[i][j];
-  return maxrad[i] + maxrad[j];
+
+  // cutoff: the contact distance of the largest spheres that can meet (SPEC 10.7)
+  const std::vector<double> &d = maxrad_dynamic, &f = maxrad_frozen;
+  if ((d[i] > 0.0 && d[j] > 0.0) || (d[i] > 0.0 && f[j] > 0.0) || (f[i] > 0.0 && d[j] > 0.0))
+    return MAX(d[i] + d[j], MAX(f[i] + d[j], d[i] + f[j]));
+  // no sphere of i or j yet, nor announced: the largest of all, so that binning never sees 0
+  double cut = 0.0;
+  for (int t = 1; t <= atom->ntypes; t++) cut = MAX(cut, 2.0 * MAX(d[t], f[t]));
+  return cut;
 }
 
 namespace {
@@ -241,7 +296,7 @@ struct PairContact {
 
 inline PairContact pair_contact(const double dx[3], double rsq, double radi, double radj,
                                 const double vi[3], const double vj[3], const double wi[3],
-                                const double wj[3], double mi, double mj)
+                                const double wj[3], double meff)
 {
   PairContact c;
   const double radsum = radi + radj;
@@ -253,7 +308,7 @@ inline PairContact pair_contact(const double dx[3], double rsq, double radi, dou
   const double wr[3] = {radi * wi[0] + radj * wj[0], radi * wi[1] + radj * wj[1],
                         radi * wi[2] + radj * wj[2]};
   c.ddelta = -vc::relative_tangential_velocity(vr, wr, c.n, c.vtr);
-  c.meff = mi * mj / (mi + mj);
+  c.meff = meff;
   c.reff = radi * radj / radsum;
   return c;
 }
@@ -276,6 +331,20 @@ void PairViscontact::compute(int eflag, int vflag)
   const bool history_update = !update->setupflag;
   FixViscontactHistory *fh = (fix_history && fix_history->ready()) ? fix_history : nullptr;
   if (need_history && !fh) fail("pair viscontact: contact history is not set up (internal error)");
+  const int *mask = atom->mask;
+  if (neighbor->ago == 0 || update->firststep != radii_checked_run[0] ||
+      update->laststep != radii_checked_run[1]) {
+    // at each build, and at the first step of a run (`run ... pre no` builds nothing)
+    check_radii();
+    radii_checked_run[0] = update->firststep;
+    radii_checked_run[1] = update->laststep;
+  }
+  if (neighbor->ago == 0) {
+    if (masses.refresh(atom)) {
+      masses.grow(atom->nmax);
+      comm->forward_comm(this);
+    }
+  }
 
   vc::ContactCoeffs cc{0.0, 0.0, 0.0};
 
@@ -310,7 +379,7 @@ void PairViscontact::compute(int eflag, int vflag)
       }
       const vc::LawParams &lp = params[itype][jtype];
       const PairContact c = pair_contact(dx, rsq, radi, radj, v[i], v[j], omega[i], omega[j],
-                                         rmass[i], rmass[j]);
+                                         masses.pair_meff(i, j, rmass, mask));
       const double delta = c.delta, ddelta = c.ddelta, meff = c.meff, reff = c.reff;
       const double *n = c.n, *vtr = c.vtr;
       {
@@ -324,6 +393,11 @@ void PairViscontact::compute(int eflag, int vflag)
         CoeffCache &e = coeff_cache[h >> (64 - COEFF_CACHE_BITS)];
         if (e.itype != itype || e.jtype != jtype || e.meff != meff || e.reff != reff) {
           e.cc = vc::contact_coeffs(lp, meff, reff);
+          if (!vc::coeffs_finite(e.cc))
+            error->one(FLERR, fmt::format("pair viscontact: the contact of atoms {} and {} (types "
+                       "{} {}) has {}; the pair_coeff values are too extreme for these sizes and "
+                       "masses in this units style", atom->tag[i], atom->tag[j], itype, jtype,
+                       vc::describe_coeffs(e.cc)));
           e.itype = itype;
           e.jtype = jtype;
           e.meff = meff;
@@ -352,6 +426,10 @@ void PairViscontact::compute(int eflag, int vflag)
 
       const double fn = vc::clamp_normal(
           vc::normal_force(delta, ddelta, t_contact, cc.k, cc.c0, cc.tau, lp.p), lp.clamp);
+      if (!std::isfinite(fn))
+        error->one(FLERR, fmt::format("pair viscontact: the normal force between atoms {} and {} "
+                   "is not finite (overlap {}, rate {}); check the time step and the pair_coeff "
+                   "values", atom->tag[i], atom->tag[j], delta, ddelta));
       double ft[3] = {0.0, 0.0, 0.0};
       if (lp.friction) {
         const double kt = vc::mindlin_stiffness(lp.Gstar, reff, delta);
@@ -398,7 +476,7 @@ double PairViscontact::single(int i, int j, int itype, int jtype, double rsq, do
   const vc::LawParams &lp = params[itype][jtype];
   const double dx[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
   const PairContact c = pair_contact(dx, rsq, radi, radj, v[i], v[j], omega[i], omega[j],
-                                     atom->rmass[i], atom->rmass[j]);
+                                     masses.pair_meff(i, j, atom->rmass, atom->mask));
   const double delta = c.delta, ddelta = c.ddelta, reff = c.reff, rinv = c.rinv;
   const double *n = c.n, *vtr = c.vtr;
   const vc::ContactCoeffs cc = vc::contact_coeffs(lp, c.meff, reff);
@@ -491,15 +569,29 @@ void PairViscontact::read_restart(FILE *fp)
   }
 }
 
+/* One int (0), kept so that restart files of earlier versions stay readable. */
 void PairViscontact::write_restart_settings(FILE *fp)
 {
-  fwrite(&drop_history, sizeof(int), 1, fp);
+  const int reserved = 0;
+  fwrite(&reserved, sizeof(int), 1, fp);
 }
 
 void PairViscontact::read_restart_settings(FILE *fp)
 {
-  if (comm->me == 0) utils::sfread(FLERR, &drop_history, sizeof(int), 1, fp, nullptr, error);
-  MPI_Bcast(&drop_history, 1, MPI_INT, 0, world);
+  int reserved = 0;
+  if (comm->me == 0) utils::sfread(FLERR, &reserved, sizeof(int), 1, fp, nullptr, error);
+}
+
+/* Rigid-body masses to ghost atoms (EffectiveMass). */
+int PairViscontact::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/, int * /*pbc*/)
+{
+  for (int k = 0; k < n; k++) buf[k] = masses.body_mass[list[k]];
+  return n;
+}
+
+void PairViscontact::unpack_forward_comm(int n, int first, double *buf)
+{
+  for (int k = 0; k < n; k++) masses.body_mass[first + k] = buf[k];
 }
 
 double PairViscontact::memory_usage()

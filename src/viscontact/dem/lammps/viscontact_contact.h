@@ -182,6 +182,20 @@ inline ContactCoeffs contact_coeffs(const LawParams &lp, double meff, double ref
   return cc;
 }
 
+/// True when k, c0 and tau are finite numbers (extreme inputs can overflow the alpha form's
+/// powers, e.g. vref^((1-4p)/5) for a large p).
+inline bool coeffs_finite(const ContactCoeffs &cc)
+{
+  return std::isfinite(cc.k) && std::isfinite(cc.c0) && std::isfinite(cc.tau);
+}
+
+/// "k = ..., c0 = ..., tau = ..." for error messages.
+inline std::string describe_coeffs(const ContactCoeffs &cc)
+{
+  return "k = " + std::to_string(cc.k) + ", c0 = " + std::to_string(cc.c0) +
+      ", tau = " + std::to_string(cc.tau);
+}
+
 /// The time of the current step [s] as LAMMPS counts it (atime at step atimestep, then dt a
 /// step); U is LAMMPS's Update (a template, so that this header needs no LAMMPS include).
 template <class U> inline double time_now(const U *update)

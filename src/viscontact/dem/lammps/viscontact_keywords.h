@@ -7,8 +7,12 @@
          TANG = none | mindlin MU
 
    Header-only, no LAMMPS includes: every function returns an error message (empty when all is
-   well) that the caller turns into one `error->all` line with its own prefix.  Domains:
-   A, B, C, S, P, MU >= 0 and finite; V > 0 and finite.  Nothing has a default except
+   well) that the caller turns into one `error->all` line with its own prefix.  Domains (the
+   Python side's, viscontact/domain.py, where they do not depend on the units style):
+     A (alpha) in [0, 1000], B (beta) in [0, 1000], P in [0, 10], MU in [0, 10],
+     V (vref) in (0, 1e300], C (c0) and S (tau) in [0, 1e300],
+     E in [1e-10, 1e20] (force/area of the units style), NU in (-1, 0.5].
+   Every number must parse completely and be finite.  Nothing has a default except
    `end force`.
 
    This file is part of viscontact.  Compiled into a LAMMPS plugin it links GPL-2 LAMMPS. */
@@ -18,40 +22,66 @@
 #include "viscontact_contact.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
 
 namespace viscontact {
 
-/// Parse a finite number that must be >= 0 (positive = false) or > 0 (positive = true).
-/// Returns an error message naming the keyword, or "" on success.
-inline std::string parse_number(const std::string &keyword, const std::string &text, bool positive,
-                                double &out)
+/// The allowed interval of one keyword's value: lo <= x <= hi (lo_open: lo < x).
+struct Domain {
+  double lo, hi;
+  bool lo_open;
+  std::string text() const;
+};
+
+inline std::string format_number(double x)
 {
-  const char *what = positive ? "a finite number > 0" : "a finite number >= 0";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", x);
+  return buf;
+}
+
+inline std::string Domain::text() const
+{
+  return std::string(lo_open ? "(" : "[") + format_number(lo) + ", " + format_number(hi) + "]";
+}
+
+constexpr Domain ALPHA_DOMAIN{0.0, 1000.0, false};    // as viscontact.domain.ALPHA_MAX
+constexpr Domain BETA_DOMAIN{0.0, 1000.0, false};     // as viscontact.domain.BETA_MAX
+constexpr Domain P_DOMAIN{0.0, 10.0, false};          // as viscontact.domain.P_MAX
+constexpr Domain MU_DOMAIN{0.0, 10.0, false};         // as viscontact.domain "friction"
+constexpr Domain VREF_DOMAIN{0.0, 1e300, true};
+constexpr Domain PHYSICAL_DOMAIN{0.0, 1e300, false};  // c0, tau: any finite value >= 0
+constexpr Domain MODULUS_DOMAIN{1e-10, 1e20, false};  // E in any units style's force/area
+constexpr Domain POISSON_DOMAIN{-1.0, 0.5, true};
+constexpr Domain POSITIVE_DOMAIN{0.0, 1e300, true};   // lengths that must be > 0
+
+/// Parse text as a number inside dom (the whole text must be one finite number).  Returns an
+/// error message naming the keyword and the allowed interval, or "" on success.
+inline std::string parse_number(const std::string &keyword, const std::string &text,
+                                const Domain &dom, double &out)
+{
   char *end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || end == text.c_str() || *end != '\0' || !std::isfinite(v) ||
-      (positive ? !(v > 0.0) : !(v >= 0.0)))
-    return keyword + " must be " + what + ", got '" + text + "'";
+  const bool above = dom.lo_open ? v > dom.lo : v >= dom.lo;
+  if (text.empty() || end == text.c_str() || *end != '\0' || !std::isfinite(v) || !above ||
+      !(v <= dom.hi))
+    return keyword + " must be a finite number in " + dom.text() + ", got '" + text + "'";
   out = v;
   return "";
 }
 
-/// A material's E (> 0, finite) and nu (in (-1, 0.5], as hertz/material), from their texts;
+/// A material's E (MODULUS_DOMAIN) and nu (in (-1, 0.5], as hertz/material), from their texts;
 /// the messages name them E_label and nu_label.  Returns an error message, or "" on success.
 inline std::string parse_material(const std::string &E_label, const std::string &nu_label,
                                   const std::string &Etext, const std::string &nutext, double &E,
                                   double &nu)
 {
-  std::string err = parse_number(E_label, Etext, true, E);
+  std::string err = parse_number(E_label, Etext, MODULUS_DOMAIN, E);
   if (!err.empty()) return err;
-  char *end = nullptr;
-  nu = std::strtod(nutext.c_str(), &end);
-  if (nutext.empty() || *end != '\0' || !(nu > -1.0 && nu <= 0.5))
-    return nu_label + " must be in (-1, 0.5], got " + nutext;
-  return "";
+  return parse_number(nu_label, nutext, POISSON_DOMAIN, nu);
 }
 
 /// Accumulates the law keywords of one pair_coeff / wall fix; call take() on each keyword,
@@ -80,17 +110,17 @@ class LawKeywords {
         const std::string &k = args[i];
         double *slot = nullptr;
         bool *flag = nullptr;
-        bool positive = false;
-        if (k == "p") slot = &p_in, flag = &has_p;
-        else if (k == "alpha") slot = &lp.alpha, flag = &has_alpha;
-        else if (k == "vref") slot = &lp.vref, flag = &has_vref, positive = true;
-        else if (k == "beta") slot = &lp.beta, flag = &has_beta;
+        const Domain *dom = &PHYSICAL_DOMAIN;
+        if (k == "p") slot = &p_in, flag = &has_p, dom = &P_DOMAIN;
+        else if (k == "alpha") slot = &lp.alpha, flag = &has_alpha, dom = &ALPHA_DOMAIN;
+        else if (k == "vref") slot = &lp.vref, flag = &has_vref, dom = &VREF_DOMAIN;
+        else if (k == "beta") slot = &lp.beta, flag = &has_beta, dom = &BETA_DOMAIN;
         else if (k == "c0") slot = &lp.c0, flag = &has_c0;
         else if (k == "tau") slot = &lp.tau, flag = &has_tau;
         else break;
         if (*flag) return fail(err, k + " given twice");
         if (i + 1 >= args.size()) return fail(err, k + " needs a value");
-        err = parse_number(k, args[i + 1], positive, *slot);
+        err = parse_number(k, args[i + 1], *dom, *slot);
         if (!err.empty()) return true;
         *flag = true;
         i += 2;
@@ -117,8 +147,8 @@ class LawKeywords {
         return true;
       }
       if (i + 1 < args.size() && args[i + 1] == "mindlin") {
-        if (i + 2 >= args.size()) return fail(err, "tangential mindlin needs MU (>= 0)");
-        err = parse_number("tangential mindlin MU", args[i + 2], false, lp.mu);
+        if (i + 2 >= args.size()) return fail(err, "tangential mindlin needs MU (in [0, 10])");
+        err = parse_number("tangential mindlin MU", args[i + 2], MU_DOMAIN, lp.mu);
         lp.friction = true;
         i += 3;
         return true;
@@ -135,7 +165,7 @@ class LawKeywords {
     if (!seen_tangential) return "missing tangential none | mindlin MU";
     const bool jian = lp.law == Law::Jian;
     if (lp.law == Law::Power) {
-      if (!has_p) return "damping power needs p P (P >= 0)";
+      if (!has_p) return "damping power needs p P (P in [0, 10])";
       lp.p = p_in;
     } else if (has_p) {
       return std::string("p is only allowed with damping power, not ") + law_name(lp.law);
@@ -152,7 +182,7 @@ class LawKeywords {
       if (!has_vref) return "vref V (> 0, m/s) is missing (alpha A needs it)";
       if (has_beta && !jian)
         return std::string("beta is only allowed with Jian, not ") + law_name(lp.law);
-      if (jian && !has_beta) return "damping Jian with alpha needs beta B (>= 0)";
+      if (jian && !has_beta) return "damping Jian with alpha needs beta B (in [0, 1000])";
       lp.by_alpha = true;
     } else {
       if (!has_c0) return "c0 C is missing (tau S needs it)";
