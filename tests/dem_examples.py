@@ -162,6 +162,36 @@ def max_overlap(frame) -> float:
     return float(np.max(overlap / (2 * np.minimum(rad[pairs[:, 0]], rad[pairs[:, 1]]))))
 
 
+@dataclass
+class _Bed:
+    """The atoms of a saved bed (a ``write_data`` file), shaped like a dump frame for
+    :func:`max_overlap`."""
+
+    box: np.ndarray
+    boundary: str
+    columns: dict
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.columns[name]
+
+
+def saved_bed(run: Run, name: str) -> _Bed:
+    """The bed ``run`` saved after its fill (``NAME.bed``; atom_style sphere: id type diameter
+    density x y z), with the run's boundary flags."""
+    lines = (run.directory / f"{name}.bed").read_text().splitlines()
+    box = np.array([[float(v) for v in ln.split()[:2]] for ln in lines
+                    if ln.split()[2:4] in (["xlo", "xhi"], ["ylo", "yhi"], ["zlo", "zhi"])])
+    start = next(k for k, ln in enumerate(lines) if ln.startswith("Atoms")) + 2
+    rows = []
+    for ln in lines[start:]:
+        if not ln.strip():
+            break
+        rows.append([float(v) for v in ln.split()[:7]])
+    data = np.array(rows)
+    cols = {"radius": data[:, 2] / 2, "x": data[:, 4], "y": data[:, 5], "z": data[:, 6]}
+    return _Bed(box, run.frames[0].boundary, cols)
+
+
 def statistics(run: Run) -> dict[str, np.ndarray]:
     """Time series: kinetic energy and packing height (centre of mass) from thermo, number of
     contacts from the dump frames."""

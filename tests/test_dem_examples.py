@@ -10,12 +10,16 @@ granular`` on the pinned LAMMPS, through the exact equivalences of SPEC 10.9 (he
   (same seed) by no more than native's own runs with two pour seeds differ;
 - 2 ranks: the same, as native's 2-rank run does;
 - after the bed has settled, no pair overlaps more than in native's runs;
-- every shipped law file (LH, Ts, KK, Li, Hunt, Jian, power) runs each example through
-  ``viscontact.dem.run_input`` (what ``viscontact dem run`` calls) to the end: no atom lost,
-  the bed's height and overlaps within what native shows.
+- every shipped law file (LH, Ts, KK, Li, Hunt, Jian, power) runs each example's second phase
+  from native's saved bed, and one example whole, through ``viscontact.dem.run_input`` (what
+  ``viscontact dem run`` calls): no atom lost, the bed's height and overlaps within what native
+  shows.
 
-The test sizes are small (``-var n``, ``-var steps`` ...): a few hundred spheres, about 10^4
-steps of 1e-5 s.
+The test sizes are small (``-var n``, ``-var fill``, ``-var steps`` ...): 150 to 250 spheres,
+1 to 3 10^4 steps of 1e-5 s.  The straight runs of native and plugin drift apart by rounding
+from the pour's first collisions on (chaos), so their forces are compared at the onset; the
+contact-rich second phases are compared from a common start, the bed native saved after its
+fill (``-var resume 1``).
 """
 
 from __future__ import annotations
@@ -78,7 +82,7 @@ CASES = [
 IDS = [c.name for c in CASES]
 SHIPPED = ("LH", "Ts", "KK", "Li", "Hunt", "Jian", "power")
 #: the examples also run on 2 ranks (each 2-rank pair costs as much as a whole example)
-TWO_RANKS = ("pour.flat", "bed.frozen")
+TWO_RANKS = ("pour.flat",)
 #: the pour is compared from its first contact for this many steps, while the straight runs are
 #: still together (the first collisions of a dilute pour amplify rounding quickly)
 ONSET = 2500
@@ -107,13 +111,26 @@ def flows(native):
     return case, tmp, nat, other, _run(tmp, case, "vc-LH", case.seeds[0], tag="vc")
 
 
+_RESUMED: dict = {}
+
+
+def _resumed_run(tmp, case: Case, law: str, bed, np_: int = 1):
+    """The second phase from ``bed``'s saved bed with the law file ``law``, dumped every 100
+    steps; each run once per test session."""
+    key = (str(tmp), law, np_)
+    if key not in _RESUMED:
+        variables = {**case.variables, "steps": case.resumed, "every": 100}
+        _RESUMED[key] = X.run_example(tmp, case.name, law, variables, np_=np_,
+                                      tag=f"{law}-resumed-{np_}", kk_diameter=case.kk_diameter,
+                                      resume=bed)
+    return _RESUMED[key]
+
+
 def _resumed_differences(tmp, case: Case, law: str, bed) -> list:
     """Native and plugin (law X: ``nat-X``, ``vc-X``) run the second phase from native's bed;
     the force differences of every frame (every 100 steps)."""
-    variables = {**case.variables, "steps": case.resumed, "every": 100}
-    runs = [X.run_example(tmp, case.name, f"{side}-{law}", variables, tag=f"{side}-{law}-resumed",
-                          kk_diameter=case.kk_diameter, resume=bed) for side in ("nat", "vc")]
-    return X.force_differences(*runs)
+    return X.force_differences(*(_resumed_run(tmp, case, f"{side}-{law}", bed)
+                                 for side in ("nat", "vc")))
 
 
 def _assert_forces(case: Case, rows, what: str) -> None:
@@ -127,6 +144,13 @@ def _assert_forces(case: Case, rows, what: str) -> None:
         assert worst > 1e-6, f"{case.name} now equals native: remove its defect note"
         pytest.xfail(case.defect)
     assert worst <= FORCE_TOL, rows
+
+
+def _check(case: Case, ok: bool, detail) -> None:
+    """A statistical check; for a case with a known plugin defect a failure is an xfail."""
+    if not ok and case.defect:
+        pytest.xfail(f"{case.defect}: {detail}")
+    assert ok, detail
 
 
 def _onset(diffs):
@@ -146,18 +170,21 @@ def test_statistics_within_native_seed_spread(flows):
     ours_d = X.statistic_distance(ref, X.statistics(ours))
     seed_d = X.statistic_distance(ref, ns)
     print(f"{case.name}: plugin vs native {ours_d}; native seed spread {seed_d}")
-    for key in ref:
-        assert ours_d[key] <= seed_d[key], (key, ours_d, seed_d)
-    assert len(ours.frames[-1]["id"]) == len(nat.frames[-1]["id"])
+    assert ours.frames[-1].natoms == nat.frames[-1].natoms
+    _check(case, all(ours_d[k] <= seed_d[k] for k in ref), (ours_d, seed_d))
 
 
-def test_settled_overlaps_as_native(flows):
+def test_poured_bed_overlaps_as_native(flows):
+    """The bed saved after the fill (the poured bed, settling) and the last frame: the largest
+    pair overlap no larger than native's, plus what native itself varies between two seeds."""
     case, _, nat, other, ours = flows
-    seeds = [X.max_overlap(nat.frames[-1]), X.max_overlap(other.frames[-1])]
-    mine = X.max_overlap(ours.frames[-1])
-    print(f"{case.name}: largest overlap / diameter: plugin {mine:.4f}, native {seeds}")
-    # native's largest, plus what native itself varies between two pour seeds
-    assert mine <= max(seeds) + abs(seeds[0] - seeds[1]), (mine, seeds)
+    for what, get in (("poured bed", lambda r: X.saved_bed(r, case.name)),
+                      ("end", lambda r: r.frames[-1])):
+        seeds = [X.max_overlap(get(nat)), X.max_overlap(get(other))]
+        mine = X.max_overlap(get(ours))
+        print(f"{case.name}: {what}: largest overlap / diameter: plugin {mine:.4f}, native "
+              f"{seeds[0]:.4f} and {seeds[1]:.4f}")
+        _check(case, mine <= max(seeds) + abs(seeds[0] - seeds[1]), (what, mine, seeds))
 
 
 def test_second_phase_forces_equal_native(native):
@@ -184,41 +211,75 @@ def test_other_equivalences(native):
 
 @needs_mpirun
 def test_two_ranks_as_native(flows):
-    """Plugin and native on 2 ranks: the 2-rank plugin run keeps native's forces at the pour's
-    onset, 1 and 2 ranks agree there as native's do, and, over the run, stays as close to the 1-rank plugin run as native's seeds are apart."""
+    """Plugin and native on 2 ranks.  The pour: the 2-rank plugin run keeps native's forces at
+    the onset, and over the run stays as close to the 1-rank plugin run as native's seeds are
+    apart.  The second phase from native's bed: the 2-rank plugin run equals the 2-rank native
+    run and its own 1-rank run to FORCE_TOL, as native's 1- and 2-rank runs agree."""
     case, tmp, nat, other, ours = flows
     if case.name not in TWO_RANKS:
         pytest.skip(f"2 ranks are checked on {', '.join(TWO_RANKS)} (CI time)")
     nat2 = _run(tmp, case, "nat-LH", case.seeds[0], np_=2, tag="nat-np2")
     ours2 = _run(tmp, case, "vc-LH", case.seeds[0], np_=2, tag="vc-np2")
     _assert_forces(case, _onset(X.force_differences(nat2, ours2)), "2 ranks, pour")
-    native_12 = max(r[2] for r in _onset(X.force_differences(nat, nat2)))
-    ours_12 = max(r[2] for r in _onset(X.force_differences(ours, ours2)))
-    print(f"{case.name}: 1 vs 2 ranks, pour: plugin {ours_12:.1e}, native {native_12:.1e}")
-    assert ours_12 <= FORCE_TOL and native_12 <= FORCE_TOL
     seed_d = X.statistic_distance(X.statistics(nat), X.statistics(other))
     ours_d = X.statistic_distance(X.statistics(ours), X.statistics(ours2))
     for key in seed_d:
         assert ours_d[key] <= seed_d[key], (key, ours_d, seed_d)
+    runs = {(side, np_): _resumed_run(tmp, case, f"{side}-LH", nat, np_)
+            for side in ("nat", "vc") for np_ in (1, 2)}
+    _assert_forces(case, X.force_differences(runs["nat", 2], runs["vc", 2]),
+                   "2 ranks, second phase, LH c0 vs native velocity")
+    for side in ("nat", "vc"):
+        _assert_forces(case, X.force_differences(runs[side, 1], runs[side, 2]),
+                       f"second phase, {side} 1 vs 2 ranks")
+
+
+#: each shipped law also runs one example whole (pour and second phase); the rest start from
+#: native's saved bed (CI time)
+WHOLE = {"LH": "pour.flat", "Ts": "pour.drum", "KK": "pour.funnel", "Li": "mixer",
+         "Hunt": "pour.2d", "Jian": "bed.frozen", "power": "pour.flat"}
+
+
+def _run_shipped(tmp, case: Case, law: str, bed=None):
+    """The example with its shipped ``law.LAW`` through ``dem.run_input`` (what ``viscontact dem
+    run`` calls, in-process): (thermo, last dump frame).  ``bed``: start the second phase from
+    that run's saved bed, dumped every 100 steps."""
+    d = tmp / f"law-{law}" if bed is None else tmp / f"law-{law}-resumed"
+    if d.exists():
+        shutil.rmtree(d)
+    shutil.copytree(X.EXAMPLES, d)
+    variables = {**case.variables, "law": law, "seed": case.seeds[0]}
+    if bed is not None:
+        shutil.copy(bed.directory / f"{case.name}.bed", d)
+        variables.update(resume=1, steps=case.resumed, every=100)
+    res = dem.run_input(d / f"in.{case.name}", variables=variables)
+    return res.thermo, dem.read_dump(next(d.glob("*.dump")))[-1]
+
+
+def _assert_sane(thermo, last, refs, span: float) -> None:
+    """No atom lost (the inputs stop with an error if one is; the count never falls), finite
+    energy and height, the final height within ``span`` of native's, the largest overlap at most
+    twice native's."""
+    assert np.all(np.diff(thermo["Atoms"]) >= 0) and last.natoms == thermo["Atoms"][-1]
+    assert np.all(np.isfinite(thermo["c_ke"])) and np.all(np.isfinite(thermo["c_height"]))
+    heights = [float(r.thermo["c_height"][-1]) for r in refs]
+    assert min(heights) - span <= thermo["c_height"][-1] <= max(heights) + span, heights
+    bound = max(X.max_overlap(r.frames[-1]) for r in refs)
+    assert X.max_overlap(last) <= 2.0 * bound, (X.max_overlap(last), bound)
 
 
 @pytest.mark.parametrize("law", SHIPPED)
 def test_every_law_runs_sane(native, law):
-    """The shipped law file runs the example through dem.run_input to the end; the same atoms
-    as native, the bed's height and its overlaps within what native shows."""
+    """Every shipped law file (alpha calibrated to e = 0.8 at 1 m/s) runs the example's second
+    phase from native's bed through dem.run_input: no atom lost, the height within a sphere
+    diameter of native's (LH c0) and overlaps at most twice native's.  On its WHOLE example it
+    also runs pour and second phase, the height within native's seed spread plus a diameter."""
     case, tmp, nat, other = native
-    d = tmp / f"law-{law}"
-    if d.exists():
-        shutil.rmtree(d)
-    shutil.copytree(X.EXAMPLES, d)
-    res = dem.run_input(d / f"in.{case.name}", variables={**case.variables, "law": law,
-                                                          "seed": case.seeds[0]})
-    frames = dem.read_dump(next(d.glob("*.dump")))
-    last, ref = frames[-1], nat.frames[-1]
-    assert last.natoms == ref.natoms
-    assert np.all(np.isfinite(res.thermo["c_ke"])) and np.all(np.isfinite(res.thermo["c_height"]))
-    heights = [float(r.thermo["c_height"][-1]) for r in (nat, other)]
-    span = abs(heights[0] - heights[1]) + 0.01  # a sphere diameter more than native's spread
-    assert min(heights) - span <= res.thermo["c_height"][-1] <= max(heights) + span, heights
-    bound = max(X.max_overlap(ref), X.max_overlap(other.frames[-1]))
-    assert X.max_overlap(last) <= 2.0 * bound, (X.max_overlap(last), bound)
+    thermo, last = _run_shipped(tmp, case, law, bed=nat)
+    ref = _resumed_run(tmp, case, "nat-LH", nat)
+    assert last.natoms == ref.frames[-1].natoms
+    _assert_sane(thermo, last, [ref], 0.01)
+    if WHOLE[law] == case.name:
+        thermo, last = _run_shipped(tmp, case, law)
+        spread = abs(float(nat.thermo["c_height"][-1]) - float(other.thermo["c_height"][-1]))
+        _assert_sane(thermo, last, [nat, other], spread + 0.01)
