@@ -283,3 +283,27 @@ def test_every_law_runs_sane(native, law):
         thermo, last = _run_shipped(tmp, case, law)
         spread = abs(float(nat.thermo["c_height"][-1]) - float(other.thermo["c_height"][-1]))
         _assert_sane(thermo, last, [nat, other], spread + 0.01)
+
+
+def test_dem_run_command_line(tmp_path):
+    """``viscontact dem run`` (the command a user types) runs an example with a law chosen by
+    ``--var law`` on 2 ranks, saves the bed and resumes from it; an unknown law is one line."""
+    import json
+
+    from conftest import run_cli
+
+    d = tmp_path / "granular"
+    shutil.copytree(X.EXAMPLES, d)
+    args = ["dem", "run", "in.pour.2d", "--var", "law", "Hunt", "--var", "n", "30", "--var",
+            "fill", "3000", "--var", "steps", "200", "--json"]
+    proc = run_cli(*args, "--np", "2", cwd=d)
+    assert proc.returncode == 0, proc.stderr
+    first = json.loads(proc.stdout)
+    assert first["last"]["Step"] == 3200 and first["last"]["Atoms"] > 0
+    assert (d / "pour.2d.bed").is_file()
+    proc = run_cli(*args, "--var", "resume", "1", "--force", cwd=d)
+    assert proc.returncode == 0, proc.stderr
+    again = json.loads(proc.stdout)
+    assert again["last"]["Step"] == 200 and again["last"]["Atoms"] == first["last"]["Atoms"]
+    proc = run_cli("dem", "run", "in.pour.2d", "--var", "law", "XX", "--force", cwd=d)
+    assert proc.returncode != 0 and "law.XX" in proc.stderr and len(proc.stderr.splitlines()) == 1
