@@ -41,7 +41,7 @@ double FixWallViscontact::parse_coordinate(const std::string &key, const char *t
   char *end = nullptr;
   const double v = std::strtod(text, &end);
   if (*text == '\0' || *end != '\0' || !std::isfinite(v))
-    fail(key + " must be a finite coordinate or NULL, got '" + text + "'");
+    fail(key + " must be a finite coordinate or NULL, got " + viscontact::quoted(text));
   return v;
 }
 
@@ -79,8 +79,8 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       fail("zcylinder cannot be used with periodic x or y");
     iarg = 5;
   } else {
-    fail("unknown wall style '" + style +
-         "'; allowed: xplane yplane zplane (LO HI) or zcylinder R");
+    fail("unknown wall style " + viscontact::quoted(style) +
+         "; allowed: xplane yplane zplane (LO HI) or zcylinder R");
   }
 
   // materials and the law
@@ -118,8 +118,8 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       has_particle = true;
       i += 3;
     } else {
-      fail("unknown keyword '" + args[i] +
-           "'; allowed: wall_material damping end tangential particle");
+      fail("unknown keyword " + viscontact::quoted(args[i]) +
+           "; allowed: wall_material damping end tangential particle");
     }
   }
   if (!seen_wall) fail("missing wall_material (E NU | rigid)");
@@ -270,7 +270,7 @@ void FixWallViscontact::contact(int i, int w, double delta, const double n[3],
   if (!std::isfinite(fn))
     error->one(FLERR, std::string(PREFIX) + "the normal force on atom " +
                           std::to_string(atom->tag[i]) + " is not finite (overlap " +
-                          std::to_string(delta) + "); check the time step and the values");
+                          viscontact::format_number(delta) + "); check the time step and the values");
 
   double ft[3] = {0.0, 0.0, 0.0};
   if (lp.friction) {

@@ -97,8 +97,8 @@ void PairViscontact::settings(int narg, char **arg)
 {
   history_lost = false;    // a new pair_style line: the next init starts a fresh history fix
   if (narg > 0)
-    fail(fmt::format("pair viscontact: pair_style viscontact takes no options, got '{}' (the "
-                     "cutoff follows the particle sizes, as pair granular's)", arg[0]));
+    fail(fmt::format("pair viscontact: pair_style viscontact takes no options, got {} (the "
+                     "cutoff follows the particle sizes, as pair granular's)", vc::quoted(arg[0])));
 }
 
 /* pair_coeff I J hertz/material E NU <law keywords>; the law keywords (damping LAW [p P] FORM
@@ -109,7 +109,7 @@ void PairViscontact::parse_coeff(int narg, char **arg, vc::LawParams &lp, double
   std::vector<std::string> args(arg, arg + narg);
   if (narg < 3 || args[2] != "hertz/material")
     fail(fmt::format("pair viscontact: expected 'hertz/material E NU' after the two types, got "
-                     "'{}'", narg < 3 ? "" : arg[2]));
+                     "{}", vc::quoted(narg < 3 ? "" : arg[2])));
   if (narg < 5) fail("pair viscontact: hertz/material needs two values, E and NU");
   std::string err = vc::parse_material("E", "nu", args[3], args[4], E, nu);
   if (!err.empty()) fail("pair viscontact: " + err);
@@ -118,9 +118,9 @@ void PairViscontact::parse_coeff(int narg, char **arg, vc::LawParams &lp, double
   size_t i = 5;
   while (i < args.size()) {
     if (!kw.take(args, i, err))
-      fail(fmt::format("pair viscontact: unknown keyword '{}' (allowed after hertz/material E NU: "
+      fail(fmt::format("pair viscontact: unknown keyword {} (allowed after hertz/material E NU: "
                        "damping LAW [p P] alpha A vref V [beta B] | c0 C [tau S], end force|overlap, "
-                       "tangential none|mindlin MU)", args[i]));
+                       "tangential none|mindlin MU)", vc::quoted(args[i])));
     if (!err.empty()) fail("pair viscontact: " + err);
   }
   err = kw.finish();

@@ -28,6 +28,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 namespace viscontact {
@@ -182,6 +183,14 @@ inline ContactCoeffs contact_coeffs(const LawParams &lp, double meff, double ref
   return cc;
 }
 
+/// x as printf's %g writes it (short, for error messages).
+inline std::string format_number(double x)
+{
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", x);
+  return buf;
+}
+
 /// True when k, c0 and tau are finite numbers (extreme inputs can overflow the alpha form's
 /// powers, e.g. vref^((1-4p)/5) for a large p).
 inline bool coeffs_finite(const ContactCoeffs &cc)
@@ -192,8 +201,8 @@ inline bool coeffs_finite(const ContactCoeffs &cc)
 /// "k = ..., c0 = ..., tau = ..." for error messages.
 inline std::string describe_coeffs(const ContactCoeffs &cc)
 {
-  return "k = " + std::to_string(cc.k) + ", c0 = " + std::to_string(cc.c0) +
-      ", tau = " + std::to_string(cc.tau);
+  return "k = " + format_number(cc.k) + ", c0 = " + format_number(cc.c0) +
+      ", tau = " + format_number(cc.tau);
 }
 
 /// The time of the current step [s] as LAMMPS counts it (atime at step atimestep, then dt a

@@ -29,19 +29,33 @@
 
 namespace viscontact {
 
+/// A user's token as it goes into an error message: printable ASCII kept, any other byte as
+/// \xNN, at most 40 characters (so that a message is one readable line, whatever was typed).
+inline std::string quoted(const std::string &text)
+{
+  std::string out = "'";
+  for (unsigned char c : text) {
+    if (out.size() > 40) {
+      out += "...";
+      break;
+    }
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02X", c);
+      out += buf;
+    }
+  }
+  return out + "'";
+}
+
 /// The allowed interval of one keyword's value: lo <= x <= hi (lo_open: lo < x).
 struct Domain {
   double lo, hi;
   bool lo_open;
   std::string text() const;
 };
-
-inline std::string format_number(double x)
-{
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", x);
-  return buf;
-}
 
 inline std::string Domain::text() const
 {
@@ -68,7 +82,7 @@ inline std::string parse_number(const std::string &keyword, const std::string &t
   const bool above = dom.lo_open ? v > dom.lo : v >= dom.lo;
   if (text.empty() || end == text.c_str() || *end != '\0' || !std::isfinite(v) || !above ||
       !(v <= dom.hi))
-    return keyword + " must be a finite number in " + dom.text() + ", got '" + text + "'";
+    return keyword + " must be a finite number in " + dom.text() + ", got " + quoted(text);
   out = v;
   return "";
 }
@@ -101,8 +115,8 @@ class LawKeywords {
       if (i + 1 >= args.size())
         return fail(err, "damping needs a law: one of LH Ts KK Li Hunt Jian power");
       if (!parse_law(args[i + 1], lp.law))
-        return fail(err, "unknown damping law '" + args[i + 1] +
-                             "'; allowed: LH Ts KK Li Hunt Jian power");
+        return fail(err, "unknown damping law " + quoted(args[i + 1]) +
+                             "; allowed: LH Ts KK Li Hunt Jian power");
       lp.p = law_exponent(lp.law);
       i += 2;
       // the law's parameters, in any order, up to the next keyword that is not one of them
