@@ -45,6 +45,38 @@ def random_number(rng: random.Random) -> str:
         f"{sign}1e{rng.randint(-330, 308)}"
 
 
+def _type_spec(rng: random.Random) -> str:
+    """A random ``--type`` value: known and unknown keys, odd numbers, ranges, separators."""
+    keys = rng.sample(("E", "nu", "density", "d", "rho", "e", ""), rng.randint(0, 4))
+    parts = []
+    for k in keys:
+        v = random_number(rng) if rng.random() < 0.8 else f"{random_number(rng)}:{random_number(rng)}"
+        parts.append(f"{k}={v}" if rng.random() < 0.9 else k)
+    return ",".join(parts)
+
+
+def _wall_words(rng: random.Random) -> list[str]:
+    """Random ``--wall`` words: a geometry (or an unknown one) and a material."""
+    style = rng.choice(("zplane", "xplane", "yplane", "zcylinder", "sphere", ""))
+    words = [style] if style else []
+    words += [rng.choice(("NULL", random_number(rng))) for _ in range(rng.choice((0, 1, 2, 3)))]
+    words += rng.choice(([], ["rigid"], ["same"], [random_number(rng), random_number(rng)], ["glass"]))
+    return words
+
+
+#: LAMMPS type specs, valid and not (full-width digits, 20 digits, reversed ranges)
+_TYPE_SPECS = ("* *", "1 2", "2 1", "1*3 *", "0 0", "2*1 *", "\uff11 \uff11",
+               "12345678901234567890 1", "1** 1", "* ", "1 2 3", "-1 1")
+#: option -> a generator of its values (the options whose values have a syntax of their own)
+_SPECIAL = {
+    "--type": lambda rng: [_type_spec(rng)],
+    "--wall": _wall_words,
+    "--types": lambda rng: [rng.choice(_TYPE_SPECS)],
+    "--e-pair": lambda rng: [rng.choice(("1", "2", "3", "0", "\uff11")) for _ in range(2)] + [random_number(rng)],
+    "--e-wall": lambda rng: [rng.choice(("1", "2", "3", "0", "-1")), random_number(rng)],
+}
+
+
 def mutate(rng: random.Random, argv: list[str], options: list[T.Option]) -> list[str]:
     """One random change of ``argv`` (its command's options only)."""
     opts = [o for o in options if o.command == T.command_of(argv) and o.kind != "positional"]
@@ -63,6 +95,8 @@ def mutate(rng: random.Random, argv: list[str], options: list[T.Option]) -> list
         return argv + [rng.choice(("--bogus", "--alph", "-x", "extra", "--"))]
     if opt.kind == "flag":
         return argv + [opt.flag]
+    if opt.command == "dem coeff" and opt.flag in _SPECIAL:
+        return argv + [opt.flag] + _SPECIAL[opt.flag](rng)  # these options repeat
     old = _number_after(argv, opt.flag)
     if opt.kind == "number" and old is not None and rng.random() < 0.5:
         # near the valid value: the solvers' range, rather than the parser's refusals
@@ -72,7 +106,7 @@ def mutate(rng: random.Random, argv: list[str], options: list[T.Option]) -> list
     elif opt.kind == "choice":
         values = [rng.choice((*opt.choices, "bogus", ""))]
     elif opt.kind in ("file", "dir"):
-        values = [rng.choice(T.PATHS[opt.kind])]
+        values = [rng.choice([v for v in T.PATHS[opt.kind] if v != "/" or opt.command != "dem run"])]
         if rng.random() < 0.5:
             argv = argv + ["--force"]
     else:

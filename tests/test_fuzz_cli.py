@@ -114,6 +114,10 @@ BASES = {
     "dem coeff power": ["dem", "coeff", "--law", "power", "--p", "0.75", "--E", "1e7", "--nu",
                         "0.3", "--alpha", "0.3", "--vref", "1", "--wall", "rigid", "--types",
                         "1 2"],
+    "dem coeff types": ["dem", "coeff", "--law", "Ts", "--e", "0.8", "--vref", "1", "--type",
+                        "E=1e7,nu=0.3,density=2500,d=0.002:0.004", "--type", "E=2e8,nu=0.2",
+                        "--e-pair", "1", "2", "0.7", "--e-wall", "2", "0.6", "--wall", "zcylinder",
+                        "0.05", "rigid", "--units", "cgs"],
     "dem run": ["dem", "run", "in.tiny", "--no-progress", "--json", "--force"],
 }
 #: the commands that need LAMMPS and a C++ compiler (without them: one line, exit 2)
@@ -191,14 +195,48 @@ NONSENSE = [
      "--wall-E", "1e9", "--wall-nu", "0.2"],
     ["dem", "coeff", "--law", "KK", "--E", "1e7", "--nu", "0.3", "--c0", "5", "--friction",
      "11"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--type", "E=1e7,nu=0.3", "--E", "1e7"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--type", "E=1e7,nu=0.3,E=2"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--type", "E=1e7,nu=0.3,d=1:"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--type", "E=1e7,nu=0.3,d=2:1,density=1"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--type", "E=1e7,nu=0.3",
+     "--types", "1 2"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--type", "E=1e7,nu=0.3",
+     "--e-pair", "1", "2", "0.7"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--type", "E=1e7,nu=0.3",
+     "--e-pair", "1", "1", "0.7", "--e-pair", "1", "1", "0.6"],
+    ["dem", "coeff", "--law", "KK", "--alpha", "0.3", "--vref", "1", "--type", "E=1e7,nu=0.3",
+     "--e-pair", "1", "1", "0.7"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--E", "1e7", "--nu", "0.3",
+     "--e-wall", "1", "0.5"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--type", "E=1e7,nu=0.3",
+     "--type", "E=1e8,nu=0.2", "--wall", "same"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--E", "1e7", "--nu", "0.3",
+     "--wall", "zplane", "1", "0"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--E", "1e7", "--nu", "0.3",
+     "--wall", "zplane", "NULL", "NULL"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--E", "1e7", "--nu", "0.3",
+     "--wall", "zcylinder", "nan"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--E", "1e7", "--nu", "0.3",
+     "--wall", "zcylinder", "-1"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--E", "1e7", "--nu", "0.3",
+     "--wall", "sphere", "1"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--E", "1e7", "--nu", "0.3",
+     "--types", "0 0"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--E", "1e7", "--nu", "0.3",
+     "--types", "2*1 *"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--E", "1e7", "--nu", "0.3",
+     "--types", "\uff11 \uff11"],
+    ["dem", "coeff", "--law", "KK", "--e", "0.8", "--vref", "1", "--E", "1e7", "--nu", "0.3",
+     "--types", "12345678901234567890 1"],
     ["dem", "plugin", "--bogus"],
     ["dem", "run"],
     ["dem", "run", "in.user"],  # its log in.user.log is the user's
     ["dem", "run", "in.user", "--force"],  # ... not even with --force
     ["dem", "run", "in.tiny", "--log", "in.user.log", "--force"],
     ["dem", "run", "in.tiny", "--log", "mine.csv"],
-    ["dem", "run", "in.tiny", "--log", "D"],
     ["dem", "run", "in.tiny", "--log", "no/such/dir/x.log"],
+    ["dem", "run", "in.tiny", "--log", "/proc/x.log"],  # unwritable: one line naming it
     ["dem", "run", "in.bad", "--force"],  # a LAMMPS error: one line
     ["dem", "run", "in.var", "--force"],  # an undefined variable: one line
     ["dem", "run", "mine.png", "--force"],  # not a LAMMPS input (not even text)
@@ -481,6 +519,8 @@ def table_cases() -> list[list[str]]:
                 cases += [with_option(base, opt.flag, [v]) for v in (*opt.choices, "bogus", "")]
             elif opt.kind in ("file", "dir"):
                 for v in PATHS[opt.kind]:
+                    if command == "dem run" and v == "/":
+                        continue  # a directory: the log would really go to /in.tiny.log
                     cases += [with_option(base, opt.flag, [v]),
                               with_option(base, opt.flag, [v]) + ["--force"]]
             else:
@@ -518,7 +558,8 @@ def test_every_option_of_every_command_is_in_the_table():
     kinds = {(o.command, o.flag): o.kind for o in table}
     assert kinds[("dem run", "input")] == "positional" and kinds[("dem run", "--log")] == "file"
     assert kinds[("dem run", "--np")] == kinds[("dem coeff", "--friction")] == "number"
-    assert kinds[("dem coeff", "--wall")] == "choice" and kinds[("dem plugin", "--rebuild")] == "flag"
+    assert kinds[("dem coeff", "--wall")] == "name" and kinds[("dem plugin", "--rebuild")] == "flag"
+    assert kinds[("dem coeff", "--units")] == "choice" and kinds[("dem coeff", "--type")] == "name"
     cases = table_cases()
     for command in names:
         assert sum(command_of(c) == command for c in cases) > 5, command

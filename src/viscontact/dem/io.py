@@ -31,8 +31,24 @@ def _numbers(tokens: list[str]) -> list[float] | None:
         return None
 
 
+def _path(path: object, what: str) -> Path:
+    """``path`` as a Path; TypeError for anything but str / os.PathLike (an int would be taken
+    as a file descriptor by open() and closed afterwards)."""
+    if isinstance(path, bytes) or not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"{what} needs a file path (str or os.PathLike), got {type(path).__name__}")
+    return Path(path)
+
+
+#: the first line LAMMPS writes into every log (its version banner)
+_LOG_BANNER = "LAMMPS ("
+
+
 def read_log_runs(path: str | os.PathLike) -> list[dict[str, np.ndarray]]:
-    """Thermo output of every run in a LAMMPS log, one dict (column name -> array) per run."""
+    """Thermo output of every run in a LAMMPS log, one dict (column name -> array) per run.
+
+    TypeError unless ``path`` is a path; ValueError when the file is not a LAMMPS log (its
+    first line is not LAMMPS's banner ``LAMMPS (version)``)."""
+    p = _path(path, "read_log")
     runs: list[dict[str, np.ndarray]] = []
     header: list[str] | None = None
     rows: list[list[float]] = []
@@ -43,7 +59,10 @@ def read_log_runs(path: str | os.PathLike) -> list[dict[str, np.ndarray]]:
             arr = np.array(rows, dtype=float).reshape(len(rows), len(header))
             runs.append({name: arr[:, i].copy() for i, name in enumerate(header)})
 
-    with open(path, encoding="utf-8", errors="replace") as fh:
+    with open(p, encoding="utf-8", errors="replace") as fh:
+        first = fh.readline()
+        if not first.startswith(_LOG_BANNER):
+            raise ValueError(f"{p} is not a LAMMPS log (its first line is not 'LAMMPS (version)')")
         for line in fh:
             if line.startswith("Per MPI rank memory allocation"):
                 close()
@@ -73,7 +92,7 @@ def read_log(path: str | os.PathLike) -> dict[str, np.ndarray]:
 
     One row per thermo line, in order (a run's first row repeats the step where the previous
     run ended).  A column that only some runs print is NaN in the others.  No thermo output
-    gives an empty dict.
+    gives an empty dict; a file that is not a LAMMPS log is a ValueError.
     """
     runs = read_log_runs(path)
     names: list[str] = []
@@ -115,7 +134,7 @@ def read_dump(path: str | os.PathLike, *, sort: bool = True) -> list[Frame]:
     ``sort``: order each frame's rows by atom ``id`` when there is an id column (dumps from
     several MPI ranks come in rank order).  ValueError names the line of a malformed file.
     """
-    p = Path(path)
+    p = _path(path, "read_dump")
     lines = p.read_text(encoding="utf-8", errors="replace").splitlines()
     frames: list[Frame] = []
     i, n = 0, len(lines)

