@@ -61,25 +61,32 @@ def _law_text(style: str, coeff: str, wall_pre: str, wall_post: str = "",
             f'variable wall_pre string "{wall_pre}"\nvariable wall_post string "{wall_post}"\n')
 
 
-def kk_c0(diameter: float) -> tuple[float, float]:
-    """Our KK c0 (pair, wall) equal to native viscoelastic KK_ETA0 for one sphere size:
-    c0 = eta0 m* sqrt(R*)."""
+def kk_c0(diameter: float) -> tuple[float, float, float]:
+    """Our KK c0 equal to native viscoelastic KK_ETA0 for one sphere size, c0 = eta0 m* sqrt(R*):
+    (pair, wall, pair with a frozen partner, whose m* is the moving sphere's mass)."""
     r = diameter / 2
     m = RHO * 4.0 / 3.0 * math.pi * r**3
-    return KK_ETA0 * (m / 2) * math.sqrt(r / 2), KK_ETA0 * m * math.sqrt(r)
+    return (KK_ETA0 * (m / 2) * math.sqrt(r / 2), KK_ETA0 * m * math.sqrt(r),
+            KK_ETA0 * m * math.sqrt(r / 2))
 
 
-def write_equivalent_laws(directory: Path, kk_diameter: float | None = None) -> None:
-    """``law.nat-X`` and ``law.vc-X`` for X in LH, Ts (and KK with ``kk_diameter``)."""
+def write_equivalent_laws(directory: Path, kk_diameter: float | None = None,
+                          kk_frozen: str | None = None) -> None:
+    """``law.nat-X`` and ``law.vc-X`` for X in LH, Ts (and KK with ``kk_diameter``; with
+    ``kk_frozen`` = "I J", the pair of a moving type I and a frozen type J gets its own c0)."""
     alpha = tsuji_polynomial(TSUJI_E)
     laws = {"nat-LH": _law_text(*_native("velocity", LH_C0)),
             "vc-LH": _law_text(*_ours(f"LH c0 {LH_C0!r}", f"LH c0 {LH_C0!r}")),
             "nat-Ts": _law_text(*_native("tsuji", TSUJI_E)),
             "vc-Ts": _law_text(*_ours(f"Ts alpha {alpha!r} vref 1.0", f"Ts alpha {alpha!r} vref 1.0"))}
     if kk_diameter is not None:
-        pair, wall = kk_c0(kk_diameter)
+        pair, wall, frozen = kk_c0(kk_diameter)
         laws["nat-KK"] = _law_text(*_native("viscoelastic", KK_ETA0))
-        laws["vc-KK"] = _law_text(*_ours(f"KK c0 {pair!r}", f"KK c0 {wall!r}"))
+        style, coeff, pre, post = _ours(f"KK c0 {pair!r}", f"KK c0 {wall!r}")
+        extra = ""
+        if kk_frozen:
+            extra = f"pair_coeff {kk_frozen} {_ours(f'KK c0 {frozen!r}', '')[1]}\n"
+        laws["vc-KK"] = _law_text(style, coeff, pre, post, extra)
     for tag, text in laws.items():
         (directory / f"law.{tag}").write_text(text)
 
@@ -96,7 +103,7 @@ class Run:
 
 def run_example(base: Path, name: str, law: str, variables: dict, *, np_: int = 1,
                 tag: str | None = None, kk_diameter: float | None = None,
-                resume: Run | None = None) -> Run:
+                kk_frozen: str | None = None, resume: Run | None = None) -> Run:
     """Run ``in.NAME`` with ``-var law LAW`` and ``variables`` in a fresh copy of the examples
     directory ``base/TAG`` (plugin loaded first, as ``viscontact dem run`` does).  ``resume``:
     an earlier run whose saved bed (``NAME.bed``) the second phase starts from."""
@@ -104,7 +111,7 @@ def run_example(base: Path, name: str, law: str, variables: dict, *, np_: int = 
     if d.exists():
         shutil.rmtree(d)
     shutil.copytree(EXAMPLES, d)
-    write_equivalent_laws(d, kk_diameter)
+    write_equivalent_laws(d, kk_diameter, kk_frozen)
     if resume is not None:
         shutil.copy(resume.directory / f"{name}.bed", d)
         variables = {**variables, "resume": 1}
