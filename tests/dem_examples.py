@@ -74,11 +74,11 @@ def write_equivalent_laws(directory: Path, kk_diameter: float | None = None,
                           kk_frozen: str | None = None) -> None:
     """``law.nat-X`` and ``law.vc-X`` for X in LH, Ts (and KK with ``kk_diameter``; with
     ``kk_frozen`` = "I J", the pair of a moving type I and a frozen type J gets its own c0)."""
-    alpha = tsuji_polynomial(TSUJI_E)
+    ts = f"Ts alpha {tsuji_polynomial(TSUJI_E)!r} vref 1.0"
     laws = {"nat-LH": _law_text(*_native("velocity", LH_C0)),
             "vc-LH": _law_text(*_ours(f"LH c0 {LH_C0!r}", f"LH c0 {LH_C0!r}")),
             "nat-Ts": _law_text(*_native("tsuji", TSUJI_E)),
-            "vc-Ts": _law_text(*_ours(f"Ts alpha {alpha!r} vref 1.0", f"Ts alpha {alpha!r} vref 1.0"))}
+            "vc-Ts": _law_text(*_ours(ts, ts))}
     if kk_diameter is not None:
         pair, wall, frozen = kk_c0(kk_diameter)
         laws["nat-KK"] = _law_text(*_native("viscoelastic", KK_ETA0))
