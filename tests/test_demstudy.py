@@ -243,7 +243,7 @@ def test_gas_homogeneity_a2_and_box(dem_report):
         assert r["density_index"][0] == pytest.approx(g["elastic_density_index"], rel=1e-9), m
     ts, kk = g["laws"]["Ts"], g["laws"]["KK"]
     assert ts["box_over_Lc_end"] < 1
-    assert max(ts["density_index"][1:]) < band["density"][2]
+    assert max(ts["density_index"][1:]) < band["density_max"][0]
     assert ts["a2_theory"] == pytest.approx([theory.a2_homogeneous_cooling(0.8)] * len(
         ts["a2_theory"]), rel=1e-6)
     late = [a for a, t in zip(ts["a2"], ts["dump_t_tau0"]) if t >= 1]
@@ -253,16 +253,22 @@ def test_gas_homogeneity_a2_and_box(dem_report):
 
 
 def test_bounce_force_contact_and_gravity_bound(dem_report):
-    # the force contact of the first bounce is the exact collision's (to a few time steps), the
-    # overlap lasts longer; the drop of e that gravity in contact causes stays below
-    # (1 - e) g t_c / v at every DEM bounce (the page's claim) and is of its order at the first
+    # the force contact of the first bounce is the exact collision's, lengthened slightly by
+    # gravity pressing the ball on (under 2 %); the overlap lasts longer where a force-free
+    # recovery follows (clearly for LH, Ts, KK); the drop of e that gravity in contact causes
+    # stays below (1 - e) g t_c / v at every DEM bounce with g t_c / v < GRAVITY_SMALL (the
+    # page's claim) and is of its order at the first
     res = json.loads((dem_report[0] / "results.json").read_text())
     for b in res["bounce"]:
-        assert b["tc_force_dem"][0] == pytest.approx(b["tc_force_exact"][0], rel=3e-3), b["law"]
-        assert b["tc_overlap_dem"][0] > 1.1 * b["tc_force_dem"][0], b["law"]
+        ratio = b["tc_force_dem"][0] / b["tc_force_exact"][0]
+        assert 1.0 <= ratio < 1.02, b["law"]
+        assert b["tc_overlap_dem"][0] >= b["tc_force_dem"][0], b["law"]
+        if b["law"] in ("LH", "Ts", "KK"):
+            assert b["tc_overlap_dem"][0] > 1.1 * b["tc_force_dem"][0], b["law"]
         drop, bound = np.array(b["drop"], float), np.array(b["bound"], float)
-        ok = np.isfinite(drop) & np.isfinite(bound)
-        assert np.all((drop[ok] >= 0) & (drop[ok] <= bound[ok])), b["law"]
+        small = np.isfinite(drop) & (np.array(b["g_tc_over_v"], float) < bounce.GRAVITY_SMALL)
+        assert small.sum() >= 2, b["law"]
+        assert np.all((drop[small] > 0) & (drop[small] <= bound[small])), b["law"]
         assert 0.3 < drop[0] / bound[0] < 1, b["law"]
     html = (dem_report[0] / "index.html").read_text()
     assert "observed bound" in html and "force contact" in html
