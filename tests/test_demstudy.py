@@ -90,9 +90,11 @@ def test_bounce_sequence_matches_exact_solver(isolated_drops, model):
     assert dem.tc[:n] == pytest.approx(tc_ex, rel=2e-3)
     # the force contact (to the zero-force end) is the exact collision's t_c at the same speed,
     # to one step (and the first-order error of the step); the overlap lasts longer by the
-    # force-free recovery of the leftover overlap
+    # force-free recovery of the leftover overlap (Hunt's force ends with the overlap here)
     assert dem.tc_force[:n] == pytest.approx(np.array([r.tc for r in at]), abs=1.5 * dt)
-    assert np.all(dem.tc[:n] > dem.tc_force[:n])
+    assert np.all(dem.tc[:n] >= dem.tc_force[:n])
+    if model in ("LH", "Ts", "KK"):
+        assert np.all(dem.tc[:n] > 1.1 * dem.tc_force[:n])
     assert dem.t_start[:n] == pytest.approx(t_ex, rel=1e-3)
     assert dem.apex[:n] == pytest.approx(ex.column("apex")[:n], rel=1e-2)
 
@@ -203,6 +205,8 @@ def test_every_law_follows_its_kinetic_theory(dem_report):
     rows = {r["law"]: r for r in _csv(dem_report[0] / "gas.csv")}
     for m in ("LH", "KK", "Li", "Hunt", "Jian"):  # not Haff's law: the control
         assert abs(float(rows[m]["T/T_Haff at end"]) - 1) > 0.12, m
+    # LH's e falls as the gas cools: no small-dissipation asymptote is listed for it
+    assert rows["LH"]["exponent asymptote"] == "" and float(rows["KK"]["exponent asymptote"]) < 0
 
 
 def test_haff_check_discriminates(tmp_path):
@@ -235,7 +239,7 @@ def test_gas_homogeneity_a2_and_box(dem_report):
     # at least 12 dumps; Ts in a box smaller than the shear-instability length stays inside the
     # ideal-gas band (an elastic-like gas lies below it); the a2 theory of Ts is the constant-e
     # value at e = 0.8 and the quick gas cannot resolve it (inside one sample's band); laws
-    # whose e rises as the gas cools move towards a2 = 0 and away from the instability
+    # whose e rises as the gas cools move away from the instability, LH towards it
     g = json.loads((dem_report[0] / "results.json").read_text())["gas"]
     band = g["ideal_gas_band"]
     for m, r in g["laws"].items():
@@ -248,7 +252,6 @@ def test_gas_homogeneity_a2_and_box(dem_report):
         ts["a2_theory"]), rel=1e-6)
     late = [a for a, t in zip(ts["a2"], ts["dump_t_tau0"]) if t >= 1]
     assert band["a2"][0] < float(np.mean(late)) < band["a2"][2]
-    assert abs(kk["a2_theory"][-1]) < abs(ts["a2_theory"][-1])
     assert kk["box_over_Lc_end"] < ts["box_over_Lc_end"] < g["laws"]["LH"]["box_over_Lc_end"]
 
 

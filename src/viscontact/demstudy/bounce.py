@@ -173,11 +173,6 @@ class BounceCase:
     dt: float = 0.0
     tc_at_dem: list[float] = field(default_factory=list)  # exact force contact time there [s]
 
-    def gravity_ratio(self) -> np.ndarray:
-        """g t_c / v at each DEM impact, t_c the elastic Hertz contact time at v."""
-        b = load_balls()[self.ball]
-        return theory.gravity_ratio(self.dem.v_in, m=b.mass, k_hertz=b.k_hertz)
-
     def gravity_drop(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(e_exact(v) - e_DEM, (1 - e_exact(v)) g t_c / v, g t_c / v) at each DEM impact
         (gravity during contact), t_c the exact force contact time at v: the drop of e that

@@ -91,7 +91,8 @@ def _balls(res) -> list[str]:
 
 def _bounce(res, path: Path) -> None:
     balls = _balls(res)
-    fig, axes = plt.subplots(2, len(balls), figsize=(6.8 * len(balls), 10), squeeze=False)
+    fig, axes = plt.subplots(2, len(balls), figsize=(9.5 * len(balls), 10), squeeze=False,
+                             layout="constrained")
     for j, b in enumerate(balls):
         cases = [c for c in res.bounces if c.ball == b]
         ax = axes[0, j]
@@ -114,7 +115,7 @@ def _bounce(res, path: Path) -> None:
         ax.set(yscale="log", xscale="log", xlabel="bounce k", ylabel="apex of flight k [mm]",
                title=f"{b}: DEM and exact sequence")
         ax.grid(alpha=0.3, which="both")
-        ax.legend(handles=handles, fontsize=7)
+        ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
         ax = axes[1, j]
         for c in cases:
             col = LAW_COLORS[c.model]
@@ -147,7 +148,7 @@ def _bounce(res, path: Path) -> None:
                ylabel="drop of e / ((1 - e_exact) g t_c / v)  [-]",
                title=f"{b}: gravity during contact lowers e")
         ax.grid(alpha=0.3, which="both")
-        ax.legend(handles=handles, fontsize=7, framealpha=0.6)
+        ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     _save(fig, path)
 
 
