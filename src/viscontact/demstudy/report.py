@@ -524,9 +524,9 @@ def _bounce_note(res: Results) -> str:
             f"lasts {_span([c.dem.tc_force[0] * 1e3 for c in cs], '{:.2f}', ' ms')} in the DEM "
             f"({_span([c.tc_at_dem[0] * 1e3 for c in cs], '{:.2f}', ' ms')} for the exact "
             f"collision at the same speed; the ball's measured contact time is "
-            f"{ball.tc * 1e3:.2f} ms); the overlap lasts longer, "
-            f"{_span([c.dem.tc[0] * 1e3 for c in cs], '{:.2f}', ' ms')}, because the ball "
-            "recovers the overlap left at the zero-force end without force. Gravity during "
+            f"{ball.tc * 1e3:.2f} ms); the overlap lasts "
+            f"{_span([c.dem.tc[0] * 1e3 for c in cs], '{:.2f}', ' ms')}, longer wherever the "
+            "ball recovers an overlap left at the zero-force end without force. Gravity during "
             f"contact lowers the first bounce's e by {_span([d for d, _ in drops], '{:.4f}')} "
             f"({_span([100 * r for r in rel], '{:.2f}', ' %')} of e), "
             f"{_span([d / bd for d, bd in drops], '{:.2f}')} of (1 - e) g t_c / v "
@@ -606,7 +606,7 @@ def _gas_note(res: Results) -> str:
     fmax = g.band.get("flow_max", (math.nan,) * 3)[0]
     over_d = [m for m, r in runs.items() if np.max(r.density_index[r.dump_t > 0]) > dmax]
     over_f = [m for m, r in runs.items() if np.max(r.flow_ratio[r.dump_t > 0]) > fmax]
-    n_d = len(next(iter(runs.values())).dump_t)
+    n_d = max(len(r.dump_t) for r in runs.values())
     parts.append(
         f"Homogeneity on {n_d} dumps per law (t = 0 the thermalised elastic gas): the variance "
         f"over the mean of the cell counts (one ideal-gas sample of the same size: "
@@ -629,8 +629,9 @@ def _gas_note(res: Results) -> str:
         f"which shear modes of the homogeneous cooling state grow (the first step towards "
         f"clusters; a linear estimate, Goldhirsch & Zanetti 1993) is {lc0 / s.sigma:.0f} "
         f"diameters at e = {s.e:g}, so box / L_c = {s.box / lc0:.2f}: linear theory expects no "
-        "instability for Ts here. It grows for laws whose e rises as the gas cools (box / L_c at "
-        "the end: " + ", ".join(f"{m} {r.L_over_Lc_end:.2f}" for m, r in runs.items()) + ").")
+        "instability for Ts here. L_c grows (box / L_c falls) for laws whose e rises as the gas "
+        "cools and shrinks for LH (box / L_c at the end: "
+        + ", ".join(f"{m} {r.L_over_Lc_end:.2f}" for m, r in runs.items()) + ").")
     return " ".join(parts)
 
 
@@ -677,12 +678,12 @@ def _flow_note(f: flow_mod.FlowStudy) -> str:
         sig = [d.model for d in diffs if abs(d.diff) > d.half95]
         parts.append(
             f"{name} against KK (a = {s.compare:g}, {len(s.seeds)} seeds): differences "
-            + ", ".join(f"{d.model} {d.diff * scale:+.3g} ± {d.half95 * scale:.2g}{unit}"
+            + ", ".join(f"{d.model} {d.diff * scale:+.3g} ± {d.half95 * scale:.3g}{unit}"
                         for d in diffs)
             + " (95 %); "
             + ("no interval excludes 0" if not sig else
                "the interval excludes 0 for " + ", ".join(sig))
-            + f"; this design detects differences of about {mdd * scale:.2g}{unit} or more "
+            + f"; this design detects differences of about {mdd * scale:.3g}{unit} or more "
             "(5 % level, 80 % power), smaller ones it cannot rule out.")
     return " ".join(parts)
 
