@@ -104,7 +104,7 @@ class FlowSetup:
 
 QUICK_FLOW = FlowSetup()
 FULL_FLOW = FlowSetup(aspects=(0.5, 1.0, 2.0, 4.0), area_d=128.0, W_d=5.0,
-                      seeds=(11, 12, 13, 14, 15), sweep_models=None)
+                      seeds=(11, 12, 13, 14, 15))
 
 
 @dataclass
