@@ -146,7 +146,7 @@ class GasSetup:
 
 
 QUICK_GAS = GasSetup(n=2000, phi=0.05, t_end_tau0=4.0, tc_ratio=0.01, dumps=16)
-FULL_GAS = GasSetup(n=4000, phi=0.05, t_end_tau0=100.0, tc_ratio=0.02, dumps=40)
+FULL_GAS = GasSetup(n=4000, phi=0.05, t_end_tau0=100.0, tc_ratio=0.02, dumps=24)
 
 
 @dataclass(frozen=True)
