@@ -16,7 +16,7 @@ from viscontact.demstudy import bounce, gas, theory
 from viscontact.demstudy.engine import LawSpec
 from viscontact.demstudy.report import QUICK, report_files
 from viscontact.outputs import MANIFEST
-from viscontact.dimensional import hertz_limit
+from viscontact.dimensional import STANDARD_GRAVITY, hertz_limit
 from viscontact.experiment import calibrate_ball, load_balls
 
 from conftest import run_cli
@@ -75,8 +75,9 @@ def test_bounce_sequence_matches_exact_solver(isolated_drops, model):
     from viscontact import impact
 
     b = load_balls()["ILB"]
-    e_at = [impact(model, m_eff=b.mass, k_hertz=b.k_hertz, v=float(v), c=_cal.c, tau=_cal.tau,
-                   history=False).e for v in dem.v_in[:n]]
+    at = [impact(model, m_eff=b.mass, k_hertz=b.k_hertz, v=float(v), c=_cal.c, tau=_cal.tau,
+                 history=False) for v in dem.v_in[:n]]
+    e_at = [r.e for r in at]
     # LH's force jumps to c v at first touch: the largest first-order error (about
     # alpha dt / (2 T e) at the zero-force end, 1.5e-3 at its 4th bounce where e = 0.29).
     # Gravity is switched off at the step in which the overlap changes sign, not at the
@@ -87,24 +88,33 @@ def test_bounce_sequence_matches_exact_solver(isolated_drops, model):
     assert dem.v_in[:n] == pytest.approx(v_ex, rel=5e-3)
     assert dem.e[:n] == pytest.approx(e_ex, rel=5e-3)
     assert dem.tc[:n] == pytest.approx(tc_ex, rel=2e-3)
+    # the force contact (to the zero-force end) is the exact collision's t_c at the same speed,
+    # to one step (and the first-order error of the step); the overlap lasts longer by the
+    # force-free recovery of the leftover overlap (Hunt's force ends with the overlap here)
+    assert dem.tc_force[:n] == pytest.approx(np.array([r.tc for r in at]), abs=1.5 * dt)
+    assert np.all(dem.tc[:n] >= dem.tc_force[:n])
+    if model in ("LH", "Ts", "KK"):
+        assert np.all(dem.tc[:n] > 1.1 * dem.tc_force[:n])
     assert dem.t_start[:n] == pytest.approx(t_ex, rel=1e-3)
     assert dem.apex[:n] == pytest.approx(ex.column("apex")[:n], rel=1e-2)
 
 
 @pytest.mark.parametrize("model", ["Ts", "KK", "Hunt"])
 def test_gravity_during_contact_parts_the_sequences(isolated_drops, model):
-    # negative control: with gravity during contact the first bounce's e differs from the exact
-    # collision by more than the time step's error, and by no more than g t_c / v
+    # negative control: with gravity during contact the first bounce's e lies below the exact
+    # collision's by more than the time step's error, and by no more than the bound the study
+    # states, (1 - e) g t_c / v with t_c the exact force contact time (0.42 to 0.80 of it)
     from viscontact import impact
 
     _ex, dem, grav, cal = isolated_drops[model]
     b = load_balls()["ILB"]
     v = float(grav.v_in[0])
-    e_exact = impact(model, m_eff=b.mass, k_hertz=b.k_hertz, v=v, c=cal.c, tau=cal.tau).e
-    rel = abs(grav.e[0] / e_exact - 1)
-    ratio = float(theory.gravity_ratio(v, m=b.mass, k_hertz=b.k_hertz))
-    assert 5e-3 < rel < ratio
-    assert abs(dem.e[0] / e_exact - 1) < 1e-3
+    r = impact(model, m_eff=b.mass, k_hertz=b.k_hertz, v=v, c=cal.c, tau=cal.tau)
+    drop = r.e - grav.e[0]
+    bound = (1 - r.e) * STANDARD_GRAVITY * r.tc / v
+    assert 5e-3 * r.e < drop < bound
+    assert drop > 0.3 * bound  # not a loose bound: the same order
+    assert abs(dem.e[0] / r.e - 1) < 1e-3
     assert grav.n < dem.n  # gravity ends the bouncing sooner
 
 
@@ -176,8 +186,6 @@ def test_haff_law_for_ts(dem_report):
     assert max(g["haff_t"]) > 3.8
     assert g["haff_max_dev"] < 0.05
     rows = {r["law"]: r for r in _csv(dem_report[0] / "gas.csv")}
-    ts = rows["Ts"]
-    assert float(ts["max density ratio"]) < 1.6 and float(ts["max flow ratio"]) < 1.6
     # the test can fail: KK (e rises as the gas cools) departs from Haff's law by far more
     assert abs(float(rows["KK"]["T/T_Haff at end"]) - 1) > 0.1
     assert float(rows["LH"]["T/T_Haff at end"]) < 1 < float(rows["KK"]["T/T_Haff at end"])
@@ -197,6 +205,8 @@ def test_every_law_follows_its_kinetic_theory(dem_report):
     rows = {r["law"]: r for r in _csv(dem_report[0] / "gas.csv")}
     for m in ("LH", "KK", "Li", "Hunt", "Jian"):  # not Haff's law: the control
         assert abs(float(rows[m]["T/T_Haff at end"]) - 1) > 0.12, m
+    # LH's e falls as the gas cools: no small-dissipation asymptote is listed for it
+    assert rows["LH"]["exponent asymptote"] == "" and float(rows["KK"]["exponent asymptote"]) < 0
 
 
 def test_haff_check_discriminates(tmp_path):
@@ -224,13 +234,81 @@ def test_bounce_table(dem_report):
         by["KK"]["bounces exact"]) < int(by["Li"]["bounces exact"]) < int(by["Hunt"]["bounces exact"])
 
 
+def test_gas_homogeneity_a2_and_box(dem_report):
+    # t = 0 is the thermalised elastic gas (its cell-count index, lowered by excluded volume);
+    # at least 12 dumps; Ts in a box smaller than the shear-instability length stays inside the
+    # ideal-gas band (an elastic-like gas lies below it); the a2 theory of Ts is the constant-e
+    # value at e = 0.8 and the quick gas cannot resolve it (inside one sample's band); laws
+    # whose e rises as the gas cools move away from the instability, LH towards it
+    g = json.loads((dem_report[0] / "results.json").read_text())["gas"]
+    band = g["ideal_gas_band"]
+    for m, r in g["laws"].items():
+        assert r["dump_t_tau0"][0] == 0.0 and len(r["dump_t_tau0"]) >= 12, m
+        assert r["density_index"][0] == pytest.approx(g["elastic_density_index"], rel=1e-9), m
+    ts, kk = g["laws"]["Ts"], g["laws"]["KK"]
+    assert ts["box_over_Lc_end"] < 1
+    assert max(ts["density_index"][1:]) < band["density_max"][0]
+    assert ts["a2_theory"] == pytest.approx([theory.a2_homogeneous_cooling(0.8)] * len(
+        ts["a2_theory"]), rel=1e-6)
+    late = [a for a, t in zip(ts["a2"], ts["dump_t_tau0"]) if t >= 1]
+    assert band["a2"][0] < float(np.mean(late)) < band["a2"][2]
+    assert kk["box_over_Lc_end"] < ts["box_over_Lc_end"] < g["laws"]["LH"]["box_over_Lc_end"]
+
+
+def test_bounce_force_contact_and_gravity_bound(dem_report):
+    # the force contact of the first bounce is the exact collision's, lengthened slightly by
+    # gravity pressing the ball on (under 2 %); the overlap lasts longer where a force-free
+    # recovery follows (clearly for LH, Ts, KK); the drop of e that gravity in contact causes
+    # stays below (1 - e) g t_c / v at every DEM bounce with g t_c / v < GRAVITY_SMALL (the
+    # page's claim) and is of its order at the first
+    res = json.loads((dem_report[0] / "results.json").read_text())
+    for b in res["bounce"]:
+        ratio = b["tc_force_dem"][0] / b["tc_force_exact"][0]
+        assert 1.0 <= ratio < 1.02, b["law"]
+        assert b["tc_overlap_dem"][0] >= b["tc_force_dem"][0], b["law"]
+        if b["law"] in ("LH", "Ts", "KK"):
+            assert b["tc_overlap_dem"][0] > 1.1 * b["tc_force_dem"][0], b["law"]
+        drop, bound = np.array(b["drop"], float), np.array(b["bound"], float)
+        small = np.isfinite(drop) & (np.array(b["g_tc_over_v"], float) < bounce.GRAVITY_SMALL)
+        assert small.sum() >= 2, b["law"]
+        assert np.all((drop[small] > 0) & (drop[small] <= bound[small])), b["law"]
+        assert 0.3 < drop[0] / bound[0] < 1, b["law"]
+    html = (dem_report[0] / "index.html").read_text()
+    assert "observed bound" in html and "force contact" in html
+
+
 def test_flow_table(dem_report):
     rows = _csv(dem_report[0] / "flow.csv")
-    assert [r["law"] for r in rows] == ["LH", "Ts", "KK", "Li", "Hunt", "Jian"]
+    cmp_rows = [r for r in rows if float(r["aspect nominal"]) == QUICK.flow.compare]
+    assert [r["law"] for r in cmp_rows] == ["LH", "Ts", "KK", "Li", "Hunt", "Jian"]
     for r in rows:
         mean, spread = (float(x) for x in r["runout;spread"].split(";"))
-        assert 0.5 < mean < 6.0 and spread >= 0  # the column spread, and came to rest
+        assert 0.2 < mean < 6.0 and spread >= 0  # the column spread, and came to rest
         assert int(r["seeds"]) >= 2
+    # at least three aspect ratios; KK's run-out and final height grow with a, as the
+    # published scaling does, and lie within a factor 2 of it (small columns: size effects)
+    kk = sorted((float(r["aspect ratio"]), float(r["runout;spread"].split(";")[0]),
+                 float(r["height/L0;spread"].split(";")[0]), float(r["runout Lube 2005"]))
+                for r in rows if r["law"] == "KK")
+    assert len(kk) >= 3
+    assert all(x[1] < y[1] and x[2] < y[2] for x, y in zip(kk, kk[1:]))
+    for a, ro, _h, pub in kk:
+        assert 0.5 < ro / pub < 2.0, a
+    # times to rest resolved between the 0.5 ms samples (interpolated), not on their grid
+    runs = _csv(dem_report[0] / "flow_runs.csv")
+    off = [abs(float(r["t_rest [s]"]) / 5e-4 - round(float(r["t_rest [s]"]) / 5e-4)) > 0.02
+           for r in runs]
+    assert sum(off) >= len(off) // 2
+    # each law against KK: an interval and the smallest detectable difference
+    laws = _csv(dem_report[0] / "flow_laws.csv")
+    assert [r["law"] for r in laws] == ["LH", "Ts", "KK", "Li", "Hunt", "Jian"]
+    for r in laws:
+        d, h = (float(x) for x in r["run-out - KK;half95"].split(";"))
+        assert math.isfinite(d) and h >= 0
+        if r["law"] == "KK":
+            assert d == 0.0
+    html = (dem_report[0] / "index.html").read_text()
+    assert "detects differences of about" in html and "do not differ" not in html
 
 
 def test_force_rules(dem_report, tmp_path):
@@ -276,7 +354,9 @@ def test_report_page_in_a_browser(dem_report, webdriver):  # noqa: F811
     for img in page["imgs"]:
         assert img["complete"] and img["w"] > 0, img
     tables = {t["id"]: t["rows"] for t in page["tables"]}
-    assert tables["gas"] == 6 and tables["flow"] == 6 and tables["bounce"] == 6
+    assert tables["gas"] == 6 and tables["bounce"] == 6 and tables["flow_laws"] == 6
+    f = QUICK.flow
+    assert tables["flow"] == 6 + (len(f.aspects) - 1) * len(f.sweep_models)
 
 
 def test_lammps_error_is_one_line(tmp_path):

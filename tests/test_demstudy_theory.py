@@ -190,27 +190,136 @@ def test_bad_input():
         th.haff_tau0(1.2, n=1.0, sigma=1.0, m=1.0, T0=1.0)
 
 
-def test_law_effect_anova():
-    # two-way analysis of variance (law, seed) of the collapse observables: a large law
-    # effect is found, a pure seed effect is not, and F equals the textbook formula
+def _collapse_study(law_eff, seed_eff, noise, rng):
+    from dataclasses import replace
+
     from viscontact.demstudy.flow import CollapseRun, FlowStudy, QUICK_FLOW
 
-    rng = np.random.default_rng(1)
-    laws, seeds = ["LH", "Ts", "KK"], [1, 2, 3, 4]
-    seed_eff = {1: 0.0, 2: 0.5, 3: -0.3, 4: 0.8}
+    setup = replace(QUICK_FLOW, seeds=tuple(seed_eff), compare=2.0)
+    runs = [CollapseRun(m, s, 1.0, 2.0, 2.0 + law_eff[m] + seed_eff[s] + noise * rng.normal(),
+                        20.0, 0.3, None, aspect=2.0) for m in law_eff for s in seed_eff]
+    return FlowStudy(setup, runs)
 
-    def study(law_eff):
-        runs = [CollapseRun(m, s, 1.0, 2.0, 2.0 + law_eff[m] + seed_eff[s] + 0.05 * rng.normal(),
-                            20.0, 0.3, None) for m in laws for s in seeds]
-        return FlowStudy(QUICK_FLOW, runs)
 
-    F, p = study({"LH": 0.0, "Ts": 0.5, "KK": 1.0}).law_effect("runout")
-    assert p < 1e-6
-    s = study({"LH": 0.0, "Ts": 0.0, "KK": 0.0})
-    F, p = s.law_effect("runout")
-    Y = np.array([[next(r.runout for r in s.runs if r.model == m and r.seed == k) for k in seeds]
-                  for m in laws])
-    resid = Y - Y.mean(1, keepdims=True) - Y.mean(0, keepdims=True) + Y.mean()
-    F_ref = (4 * Y.mean(1).var(ddof=1)) / ((resid ** 2).sum() / 6)
-    assert F == pytest.approx(F_ref, rel=1e-12)
-    assert p > 1e-3
+def test_law_differences_cover_and_detect():
+    # each law's difference from KK over the same seeds: the 95 % interval covers the true
+    # difference in about 95 % of repetitions whatever the seed effects, and a true difference
+    # equal to the stated smallest detectable one is found (interval excludes 0) in about 80 %
+    rng = np.random.default_rng(3)
+    seeds = {1: 0.0, 2: 0.7, 3: -0.4, 4: 1.1}
+    law_eff = {"LH": 0.3, "Ts": -0.2, "KK": 0.0}
+    cover, trials = 0, 600
+    for _ in range(trials):
+        diffs, mdd = _collapse_study(law_eff, seeds, 0.05, rng).law_differences("runout")
+        d = {x.model: x for x in diffs}
+        cover += abs(d["LH"].diff - 0.3) <= d["LH"].half95
+        assert set(d) == {"LH", "Ts"} and mdd > d["LH"].half95
+    assert 0.92 < cover / trials < 0.98
+    # the detectable difference: calibrate on one draw of the noise level, then test power
+    _, mdd = _collapse_study({"LH": 0, "Ts": 0, "KK": 0}, seeds, 0.05, rng).law_differences(
+        "runout")
+    # mdd from one draw scatters; use the expected one: (t975 + t80) sqrt(2 s^2 / b)
+    from scipy.stats import t as tdist
+
+    nu = 2 * 3
+    se = math.sqrt(2 * 0.05 ** 2 / 4)
+    mdd = (tdist.ppf(0.975, nu) + tdist.ppf(0.8, nu)) * se
+    found = 0
+    for _ in range(trials):
+        diffs, _ = _collapse_study({"LH": mdd, "Ts": 0.0, "KK": 0.0}, seeds, 0.05,
+                                   rng).law_differences("runout")
+        d = next(x for x in diffs if x.model == "LH")
+        found += abs(d.diff) > d.half95
+    assert 0.70 < found / trials < 0.90  # 80 % power (a t-based power is approximate)
+    # too few seeds: NaN, no crash
+    diffs, mdd = _collapse_study(law_eff, {1: 0.0}, 0.05, rng).law_differences("runout")
+    assert math.isnan(mdd) and all(math.isnan(x.diff) for x in diffs)
+
+
+def test_rest_time_interpolates_between_samples():
+    # kinetic energy decaying exponentially, sampled every 5 ms: interpolation in ln KE finds
+    # the crossing of the threshold exactly, far finer than the sampling
+    from viscontact.demstudy.flow import rest_time
+
+    t = np.arange(0.0, 0.5, 5e-3)
+    ke = np.exp(-t / 0.03)
+    thr = math.exp(-0.2321 / 0.03)
+    assert rest_time(t, ke, thr, 0.1) == pytest.approx(0.2321, rel=1e-12)
+    # a threshold never reached: the last sample; a rise before t_min is ignored
+    assert rest_time(t, ke, 1e-30, 0.1) == t[-1]
+    ke2 = ke.copy()
+    ke2[2] = 1e-40
+    assert rest_time(t, ke2, thr, 0.1) == pytest.approx(0.2321, rel=1e-12)
+
+
+def test_a2_of_the_homogeneous_cooling_state():
+    # zeros at e = 1 and e = 1/sqrt(2), negative between, positive below; the 3D closed form
+    # 16 (1 - e)(1 - 2 e^2) / (81 - 17 e + 30 e^2 (1 - e)) (Brilliantov & Poschel, eq. 7.5)
+    assert th.a2_homogeneous_cooling(1.0) == 0.0
+    assert th.a2_homogeneous_cooling(1 / math.sqrt(2)) == pytest.approx(0.0, abs=1e-15)
+    for e in (0.3, 0.5, 0.8, 0.95):
+        ref = 16 * (1 - e) * (1 - 2 * e * e) / (81 - 17 * e + 30 * e * e * (1 - e))
+        assert th.a2_homogeneous_cooling(e) == pytest.approx(ref, rel=1e-13)
+    assert th.a2_homogeneous_cooling(0.8) == pytest.approx(-0.01258, abs=1e-5)
+    assert th.a2_homogeneous_cooling(0.5) > 0 > th.a2_homogeneous_cooling(0.9)
+    with pytest.raises(ValueError, match="restitution"):
+        th.a2_homogeneous_cooling(1.2)
+
+
+def test_sonine_a2_measures_the_fourth_moment():
+    # a Maxwellian sample: a2 = 0 within its noise (sd about sqrt(8 / (15 N)) ... measured);
+    # all speeds equal (directions random): <v^4> = <v^2>^2, a2 = 3/5 - 1 = -0.4
+    rng = np.random.default_rng(5)
+    v = rng.normal(size=(200000, 3))
+    assert th.sonine_a2(v) == pytest.approx(0.0, abs=0.01)
+    u = v / np.linalg.norm(v, axis=1, keepdims=True) * 2.5
+    assert th.sonine_a2(u) == pytest.approx(-0.4, rel=1e-12)
+
+
+def test_ideal_gas_band_matches_multinomial_counts():
+    # n points in M cells: E[var/mean of counts] (population variance) = 1 - 1/M exactly; the
+    # flow ratio of independent velocities is about 1; a2 of a Maxwellian about 0
+    from viscontact.demstudy.gas import ideal_gas_band
+
+    band = ideal_gas_band(2000, 6, draws=300)
+    assert band["density"][1] == pytest.approx(1 - 1 / 216, abs=0.03)
+    lo, _, hi = band["density"]
+    # the 95 % band of a var/mean over 216 cells: about +- 1.96 sqrt(2 / 215)
+    assert hi - lo == pytest.approx(2 * 1.96 * math.sqrt(2 / 215), rel=0.2)
+    assert band["flow"][0] < 1 < band["flow"][2]
+    assert band["a2"][0] < 0 < band["a2"][2]
+
+
+def test_shear_instability_length_balances_viscosity_and_cooling():
+    # nu k^2 = zeta / 2 at k = 2 pi / L_c with nu = eta / (n m), eta = 5/(16 sigma^2)
+    # sqrt(m T / pi), zeta = -d ln T / dt of Haff's law at t = 0 (2 / tau0)
+    e = 0.8
+    L = th.shear_instability_length(e, n=N_DENS, sigma=SIGMA, phi=PHI)
+    eta = 5 / (16 * SIGMA ** 2) * math.sqrt(M * T0 / math.pi)
+    nu = eta / (N_DENS * M)
+    zeta = 2 / th.haff_tau0(e, n=N_DENS, sigma=SIGMA, m=M, T0=T0, phi=PHI)
+    assert nu * (2 * math.pi / L) ** 2 == pytest.approx(zeta / 2, rel=1e-12)
+    # more inelastic: unstable in smaller boxes
+    assert th.shear_instability_length(0.5, n=N_DENS, sigma=SIGMA) < L
+    with pytest.raises(ValueError, match="restitution"):
+        th.shear_instability_length(1.0, n=N_DENS, sigma=SIGMA)
+
+
+def test_published_collapse_scaling():
+    # Lube et al. 2005 branches at their stated values
+    assert th.collapse_runout([1.0, 2.0]) == pytest.approx([1.2, 2.4])
+    assert th.collapse_runout(8.0) == pytest.approx(1.9 * 4.0)
+    assert th.collapse_height([0.5, 1.0]) == pytest.approx([0.5, 1.0])
+    assert th.collapse_height(32.0) == pytest.approx(32.0 ** 0.4)
+
+
+def test_series_local_exponent_and_asymptote():
+    from viscontact.demstudy.figures import asymptote_reached, series_local_exponent
+
+    k = np.arange(1, 40)
+    v = 3.0 * k ** -5.0
+    kk, s = series_local_exponent(v)
+    assert s == pytest.approx(np.full(len(kk), -5.0), rel=1e-12)
+    assert asymptote_reached("KK", v)  # q = 1/5: -1/q = -5
+    assert not asymptote_reached("KK", 3.0 * k ** -3.0)
+    assert not asymptote_reached("Ts", v)  # no power law for a constant e

@@ -36,8 +36,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         "calibrated exactly to the same e: a lacrosse ball bouncing to rest (against the exact "
         "sequence of single collisions), a freely cooling granular gas (against Haff's law and "
         "the kinetic theory of each law's exact e(v)) and the collapse of a granular column "
-        "(run-out and deposit angle over several seeds); write tables, figures, dumps and "
-        "index.html into DIR.")
+        "(run-out and final height at several aspect ratios against the published scaling, "
+        "each law's difference from KK with a 95 % interval over several seeds); write "
+        "tables, figures, dumps and index.html into DIR.")
     p.add_argument("--out", default="viscontact-dem-study", metavar="DIR",
                    help="report directory (default: viscontact-dem-study)")
     p.add_argument("--np", type=int, default=1, metavar="N",

@@ -15,11 +15,15 @@ above Haff's law by 4 tau0 for contact times of 0.04, 0.02 and 0.005 mean free t
 ``scripts/haff_probe.py``), and one realisation of a few thousand spheres scatters by about
 2 %, so the check uses contact times of 0.005 mean free times and the mean of the realisations.
 
-Homogeneity is checked on the dumps: the variance of the number of spheres in cubic cells
-(about 8 spheres per cell) over its value in the thermalised elastic gas (1 while the density
-stays as uniform as at the start; clusters raise it), and the kinetic energy of the
-cell-averaged flow over the value for independent velocities, 1 / (spheres per cell)
-(1 while there is no large-scale flow; shear bands and vortices raise it).
+Homogeneity is checked on the dumps: the variance over the mean of the number of spheres in
+cubic cells (about 8 spheres per cell; an ideal gas gives 1 - 1/cells, excluded volume less,
+clusters more), and the kinetic energy of the cell-averaged flow over the value for
+independent velocities, 1 / (spheres per cell) (1 while there is no large-scale flow; shear
+bands and vortices raise it).  Both are set against the noise band of an ideal gas sampled
+with the same number of spheres and cells (:func:`ideal_gas_band`).  The velocity
+distribution's departure from a Maxwellian, a2 = (3/5) <v^4> / <v^2>^2 - 1, is measured on the
+same dumps and set next to the homogeneous-cooling value of a constant e
+(:func:`.theory.a2_homogeneous_cooling`) at each law's effective e at that temperature.
 """
 
 from __future__ import annotations
@@ -40,7 +44,7 @@ from .engine import (
 
 __all__ = ["GasSetup", "GasRun", "GasStudy", "HaffCheck", "QUICK_GAS", "FULL_GAS", "QUICK_HAFF",
            "FULL_HAFF", "run_gas", "run_haff", "homogeneity", "haff_deviation",
-           "restitution_of_speed", "late_window", "local_exponents"]
+           "restitution_of_speed", "late_window", "local_exponents", "ideal_gas_band"]
 
 
 @dataclass(frozen=True)
@@ -141,8 +145,8 @@ class GasSetup:
                                 m=self.mass, T0=self.T0, phi=self.phi)
 
 
-QUICK_GAS = GasSetup(n=2000, phi=0.05, t_end_tau0=4.0, tc_ratio=0.01, dumps=4)
-FULL_GAS = GasSetup(n=4000, phi=0.05, t_end_tau0=100.0, tc_ratio=0.02, dumps=12)
+QUICK_GAS = GasSetup(n=2000, phi=0.05, t_end_tau0=4.0, tc_ratio=0.01, dumps=16)
+FULL_GAS = GasSetup(n=4000, phi=0.05, t_end_tau0=100.0, tc_ratio=0.02, dumps=24)
 
 
 @dataclass(frozen=True)
@@ -179,8 +183,12 @@ class GasRun:
     T: np.ndarray
     dump: Path
     dump_t: np.ndarray = field(default_factory=lambda: np.empty(0))
-    density_ratio: np.ndarray = field(default_factory=lambda: np.empty(0))
+    density_index: np.ndarray = field(default_factory=lambda: np.empty(0))  # var/mean per dump
     flow_ratio: np.ndarray = field(default_factory=lambda: np.empty(0))
+    a2: np.ndarray = field(default_factory=lambda: np.empty(0))  # measured, per dump
+    a2_theory: np.ndarray = field(default_factory=lambda: np.empty(0))  # HCS at e_eff(T)
+    e_eff: np.ndarray = field(default_factory=lambda: np.empty(0))  # per dump
+    L_over_Lc_end: float = math.nan  # box over the shear-instability length at the end
     T_theory: np.ndarray = field(default_factory=lambda: np.empty(0))
     slope: float = math.nan
     slope_err: float = math.nan
@@ -201,6 +209,7 @@ class GasStudy:
     setup: GasSetup
     runs: dict[str, GasRun]
     elastic_density_var: float  # var/mean of cell counts in the thermalised elastic gas
+    band: dict[str, tuple[float, float, float]] = field(default_factory=dict)  # ideal gas
     haff: HaffCheck | None = None
     haff_t: np.ndarray = field(default_factory=lambda: np.empty(0))  # block centres / tau0
     haff_dev: np.ndarray = field(default_factory=lambda: np.empty((0, 0)))  # realisation x block
@@ -249,6 +258,40 @@ def homogeneity(x: np.ndarray, v: np.ndarray, box: float, cells: int) -> tuple[f
     flow = (np.sum(mom[ok] ** 2 / counts[ok, None]))  # sum over cells n |u|^2
     total = np.sum(v ** 2)
     return float(dens), float(flow / total * mean)
+
+
+def ideal_gas_band(n: int, cells: int, draws: int = 400, seed: int = 7, dumps: int = 1,
+                   q: tuple[float, float, float] = (2.5, 50.0, 97.5)
+                   ) -> dict[str, tuple[float, float, float]]:
+    """Sampling noise of the homogeneity measures and of a2 in an ideal gas of ``n`` spheres
+    (positions uniform in the unit box, velocities Maxwellian) with ``cells`` cells per side:
+    the ``q`` percentiles over ``draws`` samples of ``density`` (var/mean of cell counts, about
+    1 - 1/cells^3), ``flow`` (about 1) and ``a2`` (0 on average).  A measured value outside
+    the band differs from a homogeneous, Maxwellian gas by more than one sample's noise.
+
+    ``density_max`` and ``flow_max`` (three equal numbers): the value the largest of ``dumps``
+    independent samples stays below with 97.5 % probability, median + z sd with
+    z = Phi^-1(0.975^(1/dumps)) (the samples' spread is close to Gaussian); the test for the
+    largest value over a run's dumps.
+    """
+    from scipy.stats import norm
+
+    rng = np.random.default_rng(seed)
+    dens, flow, a2 = [], [], []
+    for _ in range(draws):
+        x = rng.random((n, 3))
+        v = rng.normal(size=(n, 3))
+        dn, fl = homogeneity(x, v, 1.0, cells)
+        dens.append(dn)
+        flow.append(fl)
+        a2.append(theory.sonine_a2(v))
+    out = {k: tuple(float(x) for x in np.percentile(vals, q))
+           for k, vals in (("density", dens), ("flow", flow), ("a2", a2))}
+    z = float(norm.ppf(0.975 ** (1.0 / max(1, dumps))))
+    for k, vals in (("density", dens), ("flow", flow)):
+        top = float(np.median(vals) + z * np.std(vals, ddof=1))
+        out[f"{k}_max"] = (top, top, top)
+    return out
 
 
 def restitution_of_speed(law: LawSpec, setup: GasSetup, v_min: float, v_max: float,
@@ -408,26 +451,36 @@ def run_gas(workdir: Path, setup: GasSetup = QUICK_GAS, *, models: tuple[str, ..
         steps_total += run.steps
         frames = read_dump(run.dump)
         run.dump_t = _step_times(th, np.array([f.step for f in frames]))
-        dr, fr = [], []
+        dn_, fr_, a2_ = [], [], []
         for f in frames:
             cols = f.columns
             x = np.stack([cols["x"], cols["y"], cols["z"]], 1)
             v = np.stack([cols["vx"], cols["vy"], cols["vz"]], 1)
             dn, fl = homogeneity(x, v, s.box, cells)
-            dr.append(dn / dens0)
-            fr.append(fl)
-        run.density_ratio, run.flow_ratio = np.array(dr), np.array(fr)
+            dn_.append(dn)
+            fr_.append(fl)
+            a2_.append(theory.sonine_a2(v - v.mean(0)))
+        run.density_index, run.flow_ratio, run.a2 = np.array(dn_), np.array(fr_), np.array(a2_)
         run.final = frames[-1].columns
         # kinetic theory of this law's e(v) down to speeds well below the coldest sample
         v_low = s.vref * math.sqrt(max(float(np.min(run.T)) / s.T0, 1e-12)) * 0.05
         e_of_v = restitution_of_speed(run.law, s, v_low, 12.0 * s.vref)
         run.T_theory = theory.kinetic_temperature(e_of_v, run.t, T0=s.T0, n=s.n_density,
                                                   sigma=s.sigma, m=s.mass, phi=s.phi)
+        # a2 of the homogeneous cooling state at the law's effective e at each dump's T
+        T_dump = np.interp(run.dump_t, run.t, run.T)
+        run.e_eff = np.array([theory.effective_restitution(e_of_v, 2.0 * math.sqrt(T / s.mass))
+                              for T in T_dump])
+        run.a2_theory = np.array([theory.a2_homogeneous_cooling(e) for e in run.e_eff])
+        run.L_over_Lc_end = s.box / theory.shear_instability_length(
+            min(float(run.e_eff[-1]), 1.0 - 1e-12), n=s.n_density, sigma=s.sigma, phi=s.phi)
         run.fit_from = late_window(float(run.t[-1]))
         run.slope, run.slope_err = theory.log_slope(run.t, run.T, run.fit_from)
         run.slope_theory, _ = theory.log_slope(run.t, run.T_theory, run.fit_from)
         runs[m] = run
-    st = GasStudy(s, runs, dens0, particle_steps=float(steps_total) * s.n)
+    n_dumps = max(len(r.dump_t) - 1 for r in runs.values())  # after t = 0
+    st = GasStudy(s, runs, dens0, ideal_gas_band(s.n, cells, dumps=n_dumps),
+                  particle_steps=float(steps_total) * s.n)
     st.wall_s = sum(r.wall_s for r in runs.values())
     if haff is not None:
         st.haff = haff
