@@ -467,7 +467,8 @@ def test_per_type_materials_and_wall_material():
 
 CYL_R = 0.05
 #: (radius, angle [deg], overlap, v_normal out of the axis, v_tangential (theta, z), spin):
-#: pressed normal, oblique and sliding, spinning; two sizes
+#: pressed normal, oblique and sliding, spinning; two sizes; a negative overlap puts the centre
+#: outside the cylinder (native: it touches the outer face, curvature radius +2R)
 CYL_SPHERES = [
     (0.005, 0.0, 2e-5, 0.0, (0.0, 0.0), (0.0, 0.0, 0.0)),
     (0.005, 60.0, 1e-5, 0.3, (0.0, 0.0), (0.0, 0.0, 0.0)),
@@ -475,6 +476,7 @@ CYL_SPHERES = [
     (0.005, 180.0, 3e-5, 0.1, (-0.5, 0.3), (5.0, -3.0, 20.0)),
     (0.008, 240.0, 2e-5, 0.2, (0.3, -0.2), (0.0, 8.0, 0.0)),
     (0.008, 300.0, 1e-5, 0.0, (0.0, 0.0), (0.0, 0.0, 0.0)),
+    (0.005, 30.0, -2e-5, -0.2, (0.3, 0.1), (0.0, 0.0, 4.0)),
 ]
 
 
@@ -487,7 +489,7 @@ def _cyl_script(wall: str, out: str, steps: int) -> str:
              "create_box 1 box"]
     for k, (r, deg, d, vn, (vt, vz), w) in enumerate(CYL_SPHERES, 1):
         c, s = float(np.cos(np.radians(deg))), float(np.sin(np.radians(deg)))
-        rr = CYL_R - r + d
+        rr = CYL_R - r + d if d > 0 else CYL_R + r + d    # d < 0: overlap -d from outside
         lines += [f"create_atoms 1 single {rr * c!r} {rr * s!r} 0.0",
                   f"set atom {k} diameter {2 * r!r} density {RHO!r}",
                   f"set atom {k} vx {vn * c - vt * s!r} vy {vn * s + vt * c!r} vz {vz!r}",
@@ -524,7 +526,7 @@ def _cyl_forces(tmp_path, law: str, impl: str, steps: int, np_: int = 1) -> dict
     else:
         wall = (f"fix w all viscontact/wall zcylinder {CYL_R} wall_material {E!r} {NU} {ours} "
                 f"end force tangential mindlin {mu} particle {E!r} {NU}")
-        if law == "KK":    # KK c0 equals native viscoelastic for the first size only
+        if law == "KK":    # KK c0 equals native viscoelastic for one size (and R*) only
             wall = f"group one id 1:4\n{wall.replace('all', 'one', 1)}"
     out = f"cyl.{law}.{impl}.{np_}.dump"
     proc = run_lmp(_cyl_script(wall, out, steps), tmp_path, np=np_, name=f"in.{out}")
@@ -538,7 +540,8 @@ def test_zcylinder_as_native(tmp_path, law):
     sliding, spinning: forces and torques after 1 and 3 steps equal native fix wall/gran
     granular hertz/material ... zcylinder (LH c0 = damping velocity, Ts alpha = tsuji, KK c0 =
     viscoelastic for one size) to 1e-10 of the largest.  Native's wall has curvature radius
-    -2R inside: R* = R_p 2R/(2R - R_p); the old R* = R_p is ~5 % off and would fail."""
+    -2R inside: R* = R_p 2R/(2R - R_p); the old R* = R_p is ~5 % off and would fail.  The last
+    sphere presses on the outer face from outside (native: curvature +2R)."""
     ids = slice(0, 4) if law == "KK" else slice(None)
     for steps in (1, 3):
         ref = _cyl_forces(tmp_path, law, "native", steps)
