@@ -10,7 +10,8 @@ SPEC 10.9 use law files written here (:func:`write_equivalent_laws`):
 - ``nat-Ts`` / ``vc-Ts``: native ``damping tsuji`` with restitution E = our ``Ts alpha A``,
   A = alpha_T(E), the Tsuji polynomial of the pinned LAMMPS (any sizes, masses);
 - ``nat-KK`` / ``vc-KK``: native ``viscoelastic`` eta0 = our ``KK c0`` / (m* sqrt(R*)), exact for
-  one sphere size only (pair: m* = m/2, R* = R/2; wall: m* = m, R* = R).
+  one sphere size only (pair: m* = m/2, R* = R/2; plane wall: m* = m, R* = R; the inside of a
+  zcylinder of radius R_c: R* = R 2R_c/(2R_c - R), so that wall gets its own c0).
 
 Walls: a rigid plugin wall (``wall_material rigid``) equals a native wall of E = 2 E_p, nu_p.
 """
@@ -18,6 +19,7 @@ Walls: a rigid plugin wall (``wall_material rigid``) equals a native wall of E =
 from __future__ import annotations
 
 import math
+import re
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
@@ -61,32 +63,42 @@ def _law_text(style: str, coeff: str, wall_pre: str, wall_post: str = "",
             f'variable wall_pre string "{wall_pre}"\nvariable wall_post string "{wall_post}"\n')
 
 
-def kk_c0(diameter: float) -> tuple[float, float, float]:
+def kk_c0(diameter: float, cylinder: float | None = None) -> tuple[float, float, float, float]:
     """Our KK c0 equal to native viscoelastic KK_ETA0 for one sphere size, c0 = eta0 m* sqrt(R*):
-    (pair, wall, pair with a frozen partner, whose m* is the moving sphere's mass)."""
+    (pair, plane wall, pair with a frozen partner, whose m* is the moving sphere's mass, and
+    the inside of a zcylinder of radius ``cylinder``, R* = r 2R/(2R - r) as native's; NaN
+    without one)."""
     r = diameter / 2
     m = RHO * 4.0 / 3.0 * math.pi * r**3
+    cyl = math.nan if cylinder is None else KK_ETA0 * m * math.sqrt(
+        r * 2 * cylinder / (2 * cylinder - r))
     return (KK_ETA0 * (m / 2) * math.sqrt(r / 2), KK_ETA0 * m * math.sqrt(r),
-            KK_ETA0 * m * math.sqrt(r / 2))
+            KK_ETA0 * m * math.sqrt(r / 2), cyl)
 
 
 def write_equivalent_laws(directory: Path, kk_diameter: float | None = None,
-                          kk_frozen: str | None = None) -> None:
+                          kk_frozen: str | None = None, cylinder: float | None = None) -> None:
     """``law.nat-X`` and ``law.vc-X`` for X in LH, Ts (and KK with ``kk_diameter``; with
-    ``kk_frozen`` = "I J", the pair of a moving type I and a frozen type J gets its own c0)."""
+    ``kk_frozen`` = "I J", the pair of a moving type I and a frozen type J gets its own c0;
+    with ``cylinder``, the KK laws also define ``bowl_post``, the zcylinder wall's own c0)."""
     ts = f"Ts alpha {tsuji_polynomial(TSUJI_E)!r} vref 1.0"
     laws = {"nat-LH": _law_text(*_native("velocity", LH_C0)),
             "vc-LH": _law_text(*_ours(f"LH c0 {LH_C0!r}", f"LH c0 {LH_C0!r}")),
             "nat-Ts": _law_text(*_native("tsuji", TSUJI_E)),
             "vc-Ts": _law_text(*_ours(ts, ts))}
     if kk_diameter is not None:
-        pair, wall, frozen = kk_c0(kk_diameter)
-        laws["nat-KK"] = _law_text(*_native("viscoelastic", KK_ETA0))
+        pair, wall, frozen, cyl = kk_c0(kk_diameter, cylinder)
+        native = _native("viscoelastic", KK_ETA0)
+        laws["nat-KK"] = _law_text(*native)
         style, coeff, pre, post = _ours(f"KK c0 {pair!r}", f"KK c0 {wall!r}")
         extra = ""
         if kk_frozen:
             extra = f"pair_coeff {kk_frozen} {_ours(f'KK c0 {frozen!r}', '')[1]}\n"
         laws["vc-KK"] = _law_text(style, coeff, pre, post, extra)
+        if cylinder is not None:
+            laws["nat-KK"] += 'variable bowl_post string ""\n'
+            laws["vc-KK"] += f'variable bowl_post string "{_ours("", f"KK c0 {cyl!r}")[3]}"\n'
+
     for tag, text in laws.items():
         (directory / f"law.{tag}").write_text(text)
 
@@ -111,7 +123,16 @@ def run_example(base: Path, name: str, law: str, variables: dict, *, np_: int = 
     if d.exists():
         shutil.rmtree(d)
     shutil.copytree(EXAMPLES, d)
-    write_equivalent_laws(d, kk_diameter, kk_frozen)
+    # KK c0 equals native viscoelastic for one R* only: a zcylinder wall (R* = r 2R/(2R - r))
+    # gets its own c0, the KK runs' copy of the input reads it from bowl_post
+    cylinder = None
+    source = d / f"in.{name}"
+    text = source.read_text()
+    found = re.search(r"zcylinder (\S+) \$\{wall_post\}", text)
+    if kk_diameter is not None and found and law.endswith("-KK"):
+        cylinder = float(found.group(1))
+        source.write_text(text.replace(found.group(0), f"zcylinder {found.group(1)} ${{bowl_post}}"))
+    write_equivalent_laws(d, kk_diameter, kk_frozen, cylinder)
     if resume is not None:
         shutil.copy(resume.directory / f"{name}.bed", d)
         variables = {**variables, "resume": 1}

@@ -204,7 +204,7 @@ const viscontact::ContactCoeffs &FixWallViscontact::coeffs(int type, double m, d
   const uint64_t key = (bm * 0x9E3779B97F4A7C15ULL) ^ (br * 0xC2B2AE3D27D4EB4FULL) ^
       static_cast<uint64_t>(type) * 0x165667B19E3779F9ULL;
   Coeffs &c = cache[(key * 0xD6E8FEB86659FD93ULL) >> (64 - CACHE_BITS)];
-  if (c.type != type || c.m != m || c.r != r) {    // wall: m* = m, R* = r
+  if (c.type != type || c.m != m || c.r != r) {    // wall: m* = m, r = R* (10.8)
     c.cc = viscontact::contact_coeffs(type_law[type], m, r);
     if (!viscontact::coeffs_finite(c.cc))
       error->one(FLERR, std::string(PREFIX) + "a sphere of type " + std::to_string(type) +
@@ -237,13 +237,16 @@ void FixWallViscontact::min_post_force(int vflag)
    into the sphere.  At setup (update_history false) the history is read, never written.
 ------------------------------------------------------------------------- */
 
-void FixWallViscontact::contact(int i, int w, double delta, const double n[3],
+void FixWallViscontact::contact(int i, int w, double delta, const double n[3], double rwall,
                                 bool update_history, double t_now)
 {
   double *stored = &history[i][w * HIST];    // touch, xi[3], t0
   double h[HIST];
   for (int m = 0; m < HIST; m++) h[m] = stored[m];
   const double r = atom->radius[i];
+  // R* = r rwall/(r + rwall) with the wall's curvature radius rwall (0: a plane, R* = r), as
+  // native fix wall/gran (SPEC 10.8); it feeds k_Hertz, a, c0/tau and the Mindlin stiffness
+  const double reff = rwall == 0.0 ? r : r * rwall / (r + rwall);
   const double *v = atom->v[i];
   const double *om = atom->omega[i];
   const double dt = update->dt;
@@ -262,7 +265,7 @@ void FixWallViscontact::contact(int i, int w, double delta, const double n[3],
     h[1] = h[2] = h[3] = 0.0;
     h[4] = viscontact::contact_start_time(t_now, dt, delta, ddelta);
   }
-  const viscontact::ContactCoeffs &cc = coeffs(atom->type[i], masses.mass(i, atom->rmass), r);
+  const viscontact::ContactCoeffs &cc = coeffs(atom->type[i], masses.mass(i, atom->rmass), reff);
   const double fn = viscontact::clamp_normal(
       viscontact::normal_force(delta, ddelta, viscontact::contact_clock(t_now, h[4]), cc.k, cc.c0,
                                cc.tau, lp.p),
@@ -274,7 +277,7 @@ void FixWallViscontact::contact(int i, int w, double delta, const double n[3],
 
   double ft[3] = {0.0, 0.0, 0.0};
   if (lp.friction) {
-    const double kt = viscontact::mindlin_stiffness(lp.Gstar, r, delta);
+    const double kt = viscontact::mindlin_stiffness(lp.Gstar, reff, delta);
     viscontact::mindlin_tangential(&h[1], n, vtr, dt, kt, lp.mu * std::fabs(fn), ft,
                                    update_history);
     double tq[3];
@@ -314,12 +317,19 @@ void FixWallViscontact::post_force(int /*vflag*/)
     for (int w = 0; w < nwall; w++) {
       double n[3] = {0.0, 0.0, 0.0};
       double delta = -1.0;
+      double rwall = 0.0;    // a plane
       if (wallstyle == ZCYLINDER) {
         const double rr = std::sqrt(x[i][0] * x[i][0] + x[i][1] * x[i][1]);
         if (rr > 0.0) {
-          delta = radius[i] - (cylradius - rr);
-          n[0] = -x[i][0] / rr;
-          n[1] = -x[i][1] / rr;
+          // as native fix wall/gran: a sphere inside touches a concave wall of curvature
+          // radius -2R, one outside the convex outer face, +2R (the overlap and normal of
+          // that face)
+          const bool inside = rr <= cylradius;
+          const double sgn = inside ? -1.0 : 1.0;
+          delta = radius[i] - std::fabs(cylradius - rr);
+          n[0] = sgn * x[i][0] / rr;
+          n[1] = sgn * x[i][1] / rr;
+          rwall = 2.0 * sgn * cylradius;
         }
       } else if (w == 0 && has_lo) {
         delta = radius[i] - (x[i][wallstyle] - lo);
@@ -329,7 +339,7 @@ void FixWallViscontact::post_force(int /*vflag*/)
         n[wallstyle] = -1.0;
       }
       if (delta > 0.0) {
-        contact(i, w, delta, n, update_history, t_now);
+        contact(i, w, delta, n, rwall, update_history, t_now);
       } else if (update_history) {
         double *h = &history[i][w * HIST];    // contact open: forget it
         for (int m = 0; m < HIST; m++) h[m] = 0.0;

@@ -96,7 +96,8 @@ class FixWallViscontact : public Fix {
 
   [[noreturn]] void fail(const std::string &msg);
   double parse_coordinate(const std::string &key, const char *text, bool &present);
-  void contact(int i, int w, double delta, const double n[3], bool update_history, double t_now);
+  void contact(int i, int w, double delta, const double n[3], double rwall, bool update_history,
+               double t_now);
 };
 
 }    // namespace LAMMPS_NS
