@@ -365,3 +365,29 @@ def test_lammps_error_is_one_line(tmp_path):
     with pytest.raises(LammpsError, match="ERROR") as info:
         run_lammps("bounce.in", tmp_path, {"radius": 0.03})  # the other variables missing
     assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize("model", ["Ts", "KK"])
+def test_native_stand_in_lines_carry_the_calibrated_damping(model):
+    """The native stand-in (VISCONTACT_DEM_BACKEND=native) writes pair_style granular lines
+    whose damping equals the law's: Ts alpha = native tsuji's alpha_T(e); KK
+    c0 = alpha m*^(2/5) v^(-1/5) k_H^(3/5) (SPEC 3, p = 1/2) = native eta0 m* sqrt(R*)."""
+    from viscontact.calibration import alpha_from_e
+    from viscontact.demstudy import engine
+
+    E, nu, m, r, v = 1e7, 0.3, 1e-3, 0.005, 0.5
+    text = engine.coeff_text(engine.LawSpec(model, 0.8, v), engine.Material(E, nu, 0.5),
+                             m_eff=m, r_eff=r, which="native")
+    words = text.splitlines()[1].split()
+    coef = float(words[words.index("hertz/material") + 2])
+    alpha = float(alpha_from_e(model, 0.8, end="force", exact=True))
+    if model == "Ts":
+        # native tsuji reads its coefficient as e and damps with the published fit alpha_T(e)
+        assert words[words.index("damping") + 1] == "tsuji"
+        fit = (1.2728, -4.2783, 11.087, -22.348, 27.467, -18.022, 4.8218)
+        assert sum(c * coef ** i for i, c in enumerate(fit)) == pytest.approx(alpha, rel=1e-9)
+    else:
+        assert words[words.index("damping") + 1] == "viscoelastic"
+        k = 4.0 / 3.0 * E / (2.0 * (1.0 - nu ** 2)) * r ** 0.5
+        c0 = alpha * m ** 0.4 * v ** -0.2 * k ** 0.6
+        assert coef * m * r ** 0.5 == pytest.approx(c0, rel=1e-10)

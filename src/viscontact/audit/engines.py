@@ -37,10 +37,7 @@ from .formulas import (
 )
 
 __all__ = ["Preset", "PRESETS", "ENGINES", "EngineAudit", "audit_engine", "get_preset",
-           "parse_version", "Physical"]
-
-#: the collision of a physical-unit preset (an alias kept for callers that use this name)
-Physical = ContactPair
+           "parse_version"]
 
 
 # ----------------------------------------------------------------------------- presets

@@ -96,7 +96,8 @@ def _native_text(law: LawSpec, mat: Material, walls: Sequence[Wall], m_eff: floa
                  ) -> str:
     """pair_style granular lines equal to our law for contacts of effective mass m_eff and
     radius r_eff (exact for any contact with Ts; for LH and KK only for that m*, R*)."""
-    from ..audit.engines import Physical, get_preset
+    from ..audit.engines import get_preset
+    from ..dimensional import ContactPair
     from ..calibration import alpha_from_e
 
     if law.model not in NATIVE_MODELS:
@@ -107,7 +108,7 @@ def _native_text(law: LawSpec, mat: Material, walls: Sequence[Wall], m_eff: floa
     k = 4.0 / 3.0 * estar * math.sqrt(r_eff)
     option = {"LH": "velocity", "Ts": "tsuji", "KK": "viscoelastic"}[law.model]
     pre = get_preset("lammps", option)
-    phys = Physical(m_eff=m_eff, r_eff=r_eff, k_hertz=k, v=law.vref)
+    phys = ContactPair(m_eff=m_eff, r_eff=r_eff, k_hertz=k, v=law.vref)
     damp = pre.from_alpha(alpha, phys)
     tang = ("linear_nohistory 0.0 0.0" if mat.mu is None
             else f"mindlin NULL 0.0 {mat.mu!r}")
@@ -117,7 +118,7 @@ def _native_text(law: LawSpec, mat: Material, walls: Sequence[Wall], m_eff: floa
     # a rigid wall is twice as stiff, so give it 2 E (and for LH/KK the wall contact's own m*, R*)
     for w in walls:
         kw = 4.0 / 3.0 * mat.E / (1.0 - mat.nu ** 2) * math.sqrt(2.0 * r_eff)
-        pw = Physical(m_eff=2.0 * m_eff, r_eff=2.0 * r_eff, k_hertz=kw, v=law.vref)
+        pw = ContactPair(m_eff=2.0 * m_eff, r_eff=2.0 * r_eff, k_hertz=kw, v=law.vref)
         dw = pre.from_alpha(alpha, pw)
         out.append(f"fix {w.fix_id} all wall/gran granular hertz/material {2.0 * mat.E!r} {dw!r} "
                    f"{mat.nu!r} damping {option} tangential {tang} limit_damping {w.style}")
