@@ -13,7 +13,7 @@ from ..calibration import alpha_from_e, restitution
 from ..collision import collide
 from .. import outputs
 from . import physical
-from .common import add_force_option, add_model_options, conflict, print_json
+from .common import add_force_option, add_model_options, conflict, note, print_json
 from ..domain import range_text as _R
 
 
@@ -90,7 +90,7 @@ def _collide(args: argparse.Namespace) -> int:
     if not r.separated:
         print(f"  note: {r.status}")
     if args.plot:
-        print(f"plot written to {args.plot}", file=sys.stderr)  # a status line, not a result
+        note(f"plot written to {args.plot}")  # a status line (stderr), not a result
     return 0
 
 
