@@ -84,27 +84,27 @@ PATHS = {
 }
 #: a valid, quick call of each command (the fuzzed options are changed or added to these)
 BASES = {
-    "collide": ["collide", "--model", "KK", "--alpha", "0.3"],
-    "collide Jian": ["collide", "--model", "Jian", "--alpha", "0.3", "--beta", "0.5", "--json"],
-    "collide power": ["collide", "--model", "power", "--p", "0.75", "--alpha", "0.3"],
-    "restitution": ["restitution", "--model", "KK", "--alpha", "0.1", "0.2"],
-    "restitution Jian": ["restitution", "--model", "Jian", "--alpha", "0.1", "--beta", "0.5",
+    "collide": ["collide", "--law", "KK", "--alpha", "0.3"],
+    "collide Jian": ["collide", "--law", "Jian", "--alpha", "0.3", "--beta", "0.5", "--json"],
+    "collide power": ["collide", "--law", "power", "--p", "0.75", "--alpha", "0.3"],
+    "restitution": ["restitution", "--law", "KK", "--alpha", "0.1", "0.2"],
+    "restitution Jian": ["restitution", "--law", "Jian", "--alpha", "0.1", "--beta", "0.5",
                          "--json"],
-    "calibrate": ["calibrate", "--model", "Hunt", "--e", "0.5"],
-    "calibrate physical": ["calibrate", "--model", "KK", "--mass", "0.1547", "--k-hertz",
+    "calibrate": ["calibrate", "--law", "Hunt", "--e", "0.5"],
+    "calibrate physical": ["calibrate", "--law", "KK", "--mass", "0.1547", "--k-hertz",
                            "1.688e6", "--v", "1.716", "--e", "0.463"],
-    "calibrate E nu": ["calibrate", "--model", "Li", "--mass", "0.1", "--radius", "0.03", "--E",
+    "calibrate E nu": ["calibrate", "--law", "Li", "--mass", "0.1", "--radius", "0.03", "--E",
                        "1e7", "--nu", "0.4", "--drop-height", "0.1", "--e", "0.6", "--json"],
-    "sweep c": ["sweep", "--model", "KK", "--mass", "0.1547", "--k-hertz", "1.688e6", "--c", "500",
+    "sweep c": ["sweep", "--law", "KK", "--mass", "0.1547", "--k-hertz", "1.688e6", "--c", "500",
                 "--num", "3"],
-    "sweep e": ["sweep", "--model", "Jian", "--ball", "OLB", "--speeds", "0.5", "1"],
+    "sweep e": ["sweep", "--law", "Jian", "--ball", "OLB", "--speeds", "0.5", "1"],
     "audit formula": ["audit", "--formula", "flores", "--e", "0.5"],
     "audit engine": ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "0.7"],
     "audit physical": ["audit", "--engine", "lammps", "--damping", "velocity", "--e", "0.7",
                        "--m-eff", "0.1", "--r-eff", "0.01", "--v", "1", "--k-hertz", "1e6"],
     "audit all": ["audit", "--all", "--grid", "0.5", "--no-plots", "--out", "audits/new"],
     "fit": ["fit", "--example", "--mass", "0.1547", "--drop-height", "0.15", "--laws", "KK",
-            "--quiet", "--json"],
+            "--no-progress", "--json"],
     "dem plugin": ["dem", "plugin", "--json"],
     "dem coeff e": ["dem", "coeff", "--law", "KK", "--E", "1e7", "--nu", "0.3", "--e", "0.8",
                     "--vref", "1"],
@@ -125,30 +125,30 @@ NEEDS_LAMMPS = ("dem plugin", "dem coeff", "dem run")
 #: option combinations that mean nothing or conflict: each must exit 2 with one line
 NONSENSE = [
     ["calibrate", "--mass", "0.1547", "--k-hertz", "1.688e6", "--v", "1.716", "--e", "0.463",
-     "--model", "KK", "--beta", "0.5"],
-    ["calibrate", "--model", "KK", "--e", "0.5", "--beta", "0.5"],
+     "--law", "KK", "--beta", "0.5"],
+    ["calibrate", "--law", "KK", "--e", "0.5", "--beta", "0.5"],
     ["calibrate", "--mass", "0.1", "--k-hertz", "1e6", "--radius", "0.03", "--v", "1", "--e", "0.5"],
     ["sweep", "--ball", "OLB", "--speeds", "1", "--num", "5"],
     ["sweep", "--ball", "OLB", "--speeds", "1", "--v-min", "0.5"],
     ["sweep", "--ball", "OLB", "--num", "1", "--v-min", "0.5", "--v-max", "1"],
-    ["sweep", "--model", "KK", "--mass", "0.1", "--k-hertz", "1e6", "--c", "5", "--beta", "0.5"],
+    ["sweep", "--law", "KK", "--mass", "0.1", "--k-hertz", "1e6", "--c", "5", "--beta", "0.5"],
     ["sweep", "--ball", "OLB", "--csv", "-", "--json", "-"],
-    ["sweep", "--model", "KK", "--mass", "0.1", "--k-hertz", "1e6", "--c", "5", "--v", "1"],
+    ["sweep", "--law", "KK", "--mass", "0.1", "--k-hertz", "1e6", "--c", "5", "--v", "1"],
     ["audit", "--formula", "flores", "--e", "0.5", "--p", "0.5"],
-    ["sweep", "--ball", "OLB", "--csv", "same.out", "--json", "same.out"],
+    ["sweep", "--ball", "OLB", "--csv", "same.out", "--json-out", "same.out"],
     ["sweep", "--ball", "OLB", "--force"],
-    ["collide", "--model", "KK", "--alpha", "0.3", "--histories"],
-    ["collide", "--model", "KK", "--alpha", "0.3", "--force"],
-    ["collide", "--model", "KK", "--alpha", "0.3", "--plot", ""],
-    ["collide", "--model", "KK", "--alpha", "0.3", "--plot", "D"],
-    ["collide", "--model", "KK", "--alpha", "0.3", "--plot", "plot.png", "--force"],
-    ["collide", "--model", "KK", "--alpha", "0.3", "--alpha", "0.4"],
-    ["collide", "--model", "KK", "--alpha", "0.3", "--beta", "1"],
-    ["restitution", "--model", "KK", "--alpha", "0.3", "--csv", "--json"],
+    ["collide", "--law", "KK", "--alpha", "0.3", "--histories"],
+    ["collide", "--law", "KK", "--alpha", "0.3", "--force"],
+    ["collide", "--law", "KK", "--alpha", "0.3", "--plot", ""],
+    ["collide", "--law", "KK", "--alpha", "0.3", "--plot", "D"],
+    ["collide", "--law", "KK", "--alpha", "0.3", "--plot", "plot.png", "--force"],
+    ["collide", "--law", "KK", "--alpha", "0.3", "--alpha", "0.4"],
+    ["collide", "--law", "KK", "--alpha", "0.3", "--beta", "1"],
+    ["restitution", "--law", "KK", "--alpha", "0.3", "--csv", "--json"],
     ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "0.7", "--value", "nan"],
     ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "0.7", "--out", "x"],
     ["audit", "--formula", "flores", "--e", "0.5", "--no-plots"],
-    ["audit", "--all", "--model", "KK"],
+    ["audit", "--all", "--law", "KK"],
     ["audit", "--all", "--out", "D"],
     ["fit", "--example", "--mass", "0.1547", "--drop-height", "0.15", "--force"],
     ["fit", "--example", "--mass", "0.1547", "--drop-height", "0.15", "--out", "D"],
@@ -159,7 +159,7 @@ NONSENSE = [
     ["reproduce", "--out", "viscontact-report"],
     ["reproduce", "--out", ""],
     ["reproduce", "--out", "mine.csv"],
-    ["reproduce", "--quiet", "--quiet"],
+    ["reproduce", "--no-progress", "--quiet"],
     ["reproduce", "--bogus"],
     # dem-study runs for minutes: only calls that must stop before any work
     ["dem-study", "--out", "/"],
@@ -259,23 +259,23 @@ NONSENSE = [
 #: now refused by the parameter domain, or answered with "none" where a value does not exist);
 #: ordinary cases of the table, kept because the table's own values do not all reach them
 EXTREMES = [
-    ["collide", "--model", "KK", "--alpha", "1e308"],
-    ["collide", "--model", "power", "--p", "1e308", "--alpha", "0.3"],
-    ["collide", "--model", "power", "--p", "0.75", "--alpha", "1e308"],
-    ["calibrate", "--model", "KK", "--mass", "0.1547", "--k-hertz", "1e-320", "--v", "1.716",
+    ["collide", "--law", "KK", "--alpha", "1e308"],
+    ["collide", "--law", "power", "--p", "1e308", "--alpha", "0.3"],
+    ["collide", "--law", "power", "--p", "0.75", "--alpha", "1e308"],
+    ["calibrate", "--law", "KK", "--mass", "0.1547", "--k-hertz", "1e-320", "--v", "1.716",
      "--e", "0.463"],
-    ["sweep", "--model", "KK", "--mass", "1e-320", "--k-hertz", "1.688e6", "--c", "500", "--num", "3"],
-    ["sweep", "--model", "KK", "--mass", "0.1547", "--k-hertz", "1e-320", "--c", "500", "--num", "3"],
-    ["sweep", "--model", "KK", "--mass", "0.1547", "--k-hertz", "1e308", "--c", "500", "--num", "3"],
-    ["sweep", "--model", "KK", "--mass", "0.1547", "--k-hertz", "1.688e6", "--c", "500", "--num",
+    ["sweep", "--law", "KK", "--mass", "1e-320", "--k-hertz", "1.688e6", "--c", "500", "--num", "3"],
+    ["sweep", "--law", "KK", "--mass", "0.1547", "--k-hertz", "1e-320", "--c", "500", "--num", "3"],
+    ["sweep", "--law", "KK", "--mass", "0.1547", "--k-hertz", "1e308", "--c", "500", "--num", "3"],
+    ["sweep", "--law", "KK", "--mass", "0.1547", "--k-hertz", "1.688e6", "--c", "500", "--num",
      "3", "--mass2", "1e-320"],
-    ["sweep", "--model", "KK", "--mass", "0.1547", "--k-hertz", "1.688e6", "--c", "500", "--num",
+    ["sweep", "--law", "KK", "--mass", "0.1547", "--k-hertz", "1.688e6", "--c", "500", "--num",
      "3", "--v-max", "1e308"],
-    ["sweep", "--model", "Jian", "--ball", "OLB", "--speeds", "0.5", "1", "--mass", "1e-320"],
-    ["sweep", "--model", "Jian", "--ball", "OLB", "--speeds", "0.5", "1", "--k-hertz", "1e-320"],
-    ["sweep", "--model", "Jian", "--ball", "OLB", "--speeds", "0.5", "1", "--k-hertz", "1e308"],
-    ["sweep", "--model", "Jian", "--ball", "OLB", "--speeds", "0.5", "1", "--mass2", "1e-320"],
-    ["sweep", "--model", "Jian", "--ball", "OLB", "--speeds", "1e308"],
+    ["sweep", "--law", "Jian", "--ball", "OLB", "--speeds", "0.5", "1", "--mass", "1e-320"],
+    ["sweep", "--law", "Jian", "--ball", "OLB", "--speeds", "0.5", "1", "--k-hertz", "1e-320"],
+    ["sweep", "--law", "Jian", "--ball", "OLB", "--speeds", "0.5", "1", "--k-hertz", "1e308"],
+    ["sweep", "--law", "Jian", "--ball", "OLB", "--speeds", "0.5", "1", "--mass2", "1e-320"],
+    ["sweep", "--law", "Jian", "--ball", "OLB", "--speeds", "1e308"],
     ["audit", "--formula", "flores", "--e", "1e-320"],
     ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "1e-320"],
     ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "1e-3"],
@@ -292,9 +292,9 @@ EXTREMES = [
      "--r-eff", "0.01", "--v", "1", "--k-hertz", "1e308"],
     ["audit", "--engine", "lammps", "--damping", "velocity", "--e", "0.7", "--m-eff", "0.1",
      "--r-eff", "0.01", "--v", "1e308", "--k-hertz", "1e6"],
-    ["fit", "--example", "--mass", "1e-320", "--drop-height", "0.15", "--laws", "KK", "--quiet",
+    ["fit", "--example", "--mass", "1e-320", "--drop-height", "0.15", "--laws", "KK", "--no-progress",
      "--json"],
-    ["fit", "--example", "--mass", "0.1547", "--drop-height", "1e-320", "--laws", "KK", "--quiet",
+    ["fit", "--example", "--mass", "0.1547", "--drop-height", "1e-320", "--laws", "KK", "--no-progress",
      "--json"],
 ]
 #: a deadline per call against hangs (generous: the first call of a kind may compile)
@@ -430,7 +430,7 @@ def _option_kind(command: str, a: argparse.Action) -> str:
         return "number"
     if a.choices:
         return "choice"
-    if a.dest in ("plot", "log") or (command == "sweep" and a.dest in ("csv", "json")):
+    if a.dest in ("plot", "log") or (command == "sweep" and a.dest in ("csv", "json", "json_out")):
         return "file"
     if a.dest == "out":
         return "dir"
@@ -648,9 +648,9 @@ def test_outputs_follow_the_file_rule(userdir):
     printed is the path written; a user's file under the name is never replaced."""
     root, files = userdir
     runs = [
-        (["collide", "--model", "KK", "--alpha", "0.3", "--plot", "c.png"], ["c.png"]),
-        (["sweep", "--ball", "OLB", "--model", "KK", "--num", "3", "--plot", "s.png",
-          "--csv", "s.csv", "--json", "s.json"], ["s.png", "s.csv", "s.json"]),
+        (["collide", "--law", "KK", "--alpha", "0.3", "--plot", "c.png"], ["c.png"]),
+        (["sweep", "--ball", "OLB", "--law", "KK", "--num", "3", "--plot", "s.png",
+          "--csv", "s.csv", "--json-out", "s.json"], ["s.png", "s.csv", "s.json"]),
         (["audit", "--all", "--grid", "0.5", "--no-plots", "--out", "a"], ["a/formulas.csv"]),
         (["fit", "--example", "--mass", "0.1547", "--drop-height", "0.15", "--laws", "KK",
           "--quiet", "--out", "f"], ["f/fit.json", "f/fit_example_drop.png"]),
@@ -664,10 +664,10 @@ def test_outputs_follow_the_file_rule(userdir):
         assert again.status == 2 and "--force" in again.err, again.err
         forced = call(argv + ["--force"])
         assert forced.status == 0, forced.err
-    out = call(["sweep", "--ball", "OLB", "--model", "KK", "--num", "3", "--plot", "s.png",
+    out = call(["sweep", "--ball", "OLB", "--law", "KK", "--num", "3", "--plot", "s.png",
                 "--force"])
     assert out.err.strip() == "plot written to s.png"
-    assert call(["collide", "--model", "KK", "--alpha", "0.3", "--plot", "s.png",
+    assert call(["collide", "--law", "KK", "--alpha", "0.3", "--plot", "s.png",
                  "--force"]).status == 2  # sweep's plot is not collide's to replace
     (root / "a" / "formulas.csv").write_text("edited by the user\n")
     edited = call(["audit", "--all", "--grid", "0.5", "--no-plots", "--out", "a", "--force"])
@@ -719,7 +719,7 @@ def _tiny_png() -> bytes:
 def test_closed_pipe_is_quiet():
     env = dict(os.environ, PYTHONPATH=SRC + os.pathsep + os.environ.get("PYTHONPATH", ""))
     proc = subprocess.run(
-        f"'{sys.executable}' -m viscontact collide --model Jian --alpha 0.3 --beta 0.5 --json "
+        f"'{sys.executable}' -m viscontact collide --law Jian --alpha 0.3 --beta 0.5 --json "
         "--histories | head -1; echo \"status ${PIPESTATUS[0]}\" >&2",
         shell=True, executable="/bin/bash", env=env, capture_output=True, text=True, timeout=120)
     assert proc.stdout == "{\n"
@@ -727,10 +727,10 @@ def test_closed_pipe_is_quiet():
 
 
 @pytest.mark.parametrize("args", [
-    ["collide", "--model", "KK", "--alpha", "0.3", "--plot", "D"],
+    ["collide", "--law", "KK", "--alpha", "0.3", "--plot", "D"],
     ["audit", "--engine", "lammps", "--damping", "tsuji", "--e", "0.7", "--value", "nan"],
     ["sweep", "--ball", "OLB", "--speeds", "1", "--num", "5"],
-    ["calibrate", "--model", "KK", "--e", "0.5", "--e", "0.6"],
+    ["calibrate", "--law", "KK", "--e", "0.5", "--e", "0.6"],
 ])
 def test_one_line_from_a_real_process(tmp_path, args):
     make_user_files(tmp_path)

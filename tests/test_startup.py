@@ -103,7 +103,7 @@ def test_compiled_kernels_after_a_few_plain_solves():
 
 def test_collide_command_loads_neither_numba_nor_matplotlib():
     mods = loaded_modules("from viscontact.cli import main\n"
-                          "main(['collide', '--model', 'Jian', '--alpha', '0.3', '--beta', '0.5'])")
+                          "main(['collide', '--law', 'Jian', '--alpha', '0.3', '--beta', '0.5'])")
     assert not {"numba", "matplotlib", "viscontact.tables", "viscontact.solvers.batch"} & mods
 
 
@@ -126,18 +126,39 @@ def test_import_viscontact_is_light_and_complete():
         vc.not_there
 
 
-@pytest.mark.parametrize("args", [["--model", "Jian", "--alpha", "0.3", "--beta", "0.5"],
-                                  ["--model", "Ts", "--alpha", "0.7", "--end", "overlap"],
-                                  ["--model", "power", "--p", "0.75", "--alpha", "2"]])
+@pytest.mark.parametrize("args", [["--law", "Jian", "--alpha", "0.3", "--beta", "0.5"],
+                                  ["--law", "Ts", "--alpha", "0.7", "--end", "overlap"],
+                                  ["--law", "power", "--p", "0.75", "--alpha", "2"]])
 def test_collide_command_in_a_fresh_process_matches_the_library(args):
     """The fresh process solves with the plain kernels; this one has the compiled loaded."""
     out = subprocess.run([sys.executable, "-m", "viscontact", "collide", *args, "--json"],
                          capture_output=True, text=True, check=True)
     got = json.loads(out.stdout)
     opts = dict(zip(args[::2], args[1::2]))
-    r = vc.collide(opts["--model"], float(opts["--alpha"]),
+    r = vc.collide(opts["--law"], float(opts["--alpha"]),
                    beta=float(opts["--beta"]) if "--beta" in opts else None,
                    p=float(opts["--p"]) if "--p" in opts else None,
                    end=opts.get("--end", "force"))
     assert "viscontact.kernels" in sys.modules
     assert got == r.to_dict()
+
+
+def test_importing_viscontact_keeps_the_users_matplotlib_backend():
+    """Every viscontact module imported after the user chose a backend (here the non-Agg 'svg')
+    leaves it chosen: figures are bare Figure objects, no backend is set at import."""
+    import pkgutil
+
+    import viscontact
+
+    names = sorted(m.name for m in pkgutil.walk_packages(viscontact.__path__, "viscontact.")
+                   if not m.name.endswith("__main__"))  # running it would run the CLI
+    assert "viscontact.plotting" in names and "viscontact.audit.report" in names
+    code = ("import importlib, matplotlib, sys\n"
+            "matplotlib.use('svg')\n"
+            "for name in sys.argv[1:]:\n"
+            "    importlib.import_module(name)\n"
+            "    assert matplotlib.get_backend() == 'svg', (name, matplotlib.get_backend())\n"
+            "print('ok')\n")
+    proc = subprocess.run([sys.executable, "-c", code, *names], capture_output=True, text=True,
+                          timeout=300)
+    assert proc.returncode == 0 and proc.stdout == "ok\n", proc.stderr[-2000:]

@@ -75,7 +75,7 @@ def test_bad_sweep_input(kwargs):
 
 def test_cli_sweep_csv_json_plot(tmp_path):
     proc = run_cli("sweep", "--ball", "ILB", "--num", "3", "--csv", tmp_path / "s.csv",
-                   "--json", tmp_path / "s.json", "--plot", tmp_path / "s.png")
+                   "--json-out", tmp_path / "s.json", "--plot", tmp_path / "s.png")
     assert proc.returncode == 0, proc.stderr
     marker, text = (tmp_path / "s.csv").read_text().split("\n", 1)
     assert marker.startswith("# written by viscontact sweep ")  # the file rule's marker
@@ -89,7 +89,7 @@ def test_cli_sweep_csv_json_plot(tmp_path):
 
 
 def test_cli_sweep_given_c_to_stdout(capsys):
-    assert main(["sweep", "--model", "Jian", "--c", "600", "--tau", "2.7e-3", "--mass", str(M),
+    assert main(["sweep", "--law", "Jian", "--c", "600", "--tau", "2.7e-3", "--mass", str(M),
                  "--k-hertz", str(K), "--speeds", "0.5", "1.5"]) == 0
     rows = list(csv.DictReader(io.StringIO(capsys.readouterr().out)))
     assert [r["model"] for r in rows] == ["Jian", "Jian"]
@@ -98,8 +98,8 @@ def test_cli_sweep_given_c_to_stdout(capsys):
 @pytest.mark.parametrize("args", [
     ["--ball", "ILB", "--v-min", "-1"],
     ["--ball", "ILB", "--speeds", "0"],
-    ["--model", "KK", "--c", "10", "--mass", "0", "--k-hertz", "1e6"],
-    ["--model", "KK", "--c", "10", "--mass", "1"],
+    ["--law", "KK", "--c", "10", "--mass", "0", "--k-hertz", "1e6"],
+    ["--law", "KK", "--c", "10", "--mass", "1"],
     ["--c", "10", "--mass", "1", "--k-hertz", "1e6"],
     ["--mass", "1", "--k-hertz", "1e6", "--v", "1"],
     ["--ball", "ILB", "--csv", "/nonexistent-dir/s.csv"],
@@ -110,3 +110,18 @@ def test_cli_sweep_bad_input(args, tmp_path, capsys, monkeypatch):
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and err.startswith("viscontact sweep: error:"), err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_cli_sweep_json_prints_one_object_and_old_file_form_still_writes(tmp_path, capsys,
+                                                                         monkeypatch):
+    """``--json`` alone: one JSON object on stdout, nothing else there; ``--json FILE`` (the old
+    form) still writes FILE, with a deprecation note on stderr."""
+    monkeypatch.chdir(tmp_path)
+    argv = ["sweep", "--ball", "ILB", "--law", "KK", "--num", "2"]
+    assert main([*argv, "--json"]) == 0
+    out, err = capsys.readouterr()
+    assert [s["model"] for s in json.loads(out)["sweeps"]] == ["KK"] and err == ""
+    assert main([*argv, "--json", "old.json"]) == 0
+    out, err = capsys.readouterr()
+    assert out == "" and "--json-out" in err and len(err.strip().splitlines()) == 2
+    assert json.loads((tmp_path / "old.json").read_text())["sweeps"][0]["model"] == "KK"

@@ -405,7 +405,7 @@ def get_formula(name: str, *, model: str | None = None, p: float | None = None) 
     key = name.strip().lower()
     if key == "first-order":
         if model is None:
-            raise ValueError("formula first-order needs a model (--model NAME)")
+            raise ValueError("formula first-order needs a model (--law NAME)")
         return first_order_formula(model, p)
     if key in FORMULAS:
         if model is not None and lookup(model).name != FORMULAS[key].model:

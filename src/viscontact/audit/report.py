@@ -164,10 +164,8 @@ def summary_markdown(e_values: Sequence[float] = SUMMARY_E,
 
 
 def _mpl():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    """Figure factory that leaves the caller's matplotlib backend alone."""
+    from ..plotting import plt
 
     return plt
 

@@ -76,6 +76,8 @@ def _run(argv: Sequence[str] | None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)  # --help, --version, usage errors: SystemExit (0 or 2)
     name = f"viscontact {args.command}"
+    if getattr(args, "_law_required", False) and args.model is None:
+        return _fail(name, f"the following arguments are required: --law (see {name} --help)")
     try:
         status = int(args.handler(args) or 0)
         sys.stdout.flush()

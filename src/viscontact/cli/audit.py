@@ -10,7 +10,7 @@ from ..dimensional import ContactPair
 from ..audit.formulas import FORMULAS, audit_formula, get_formula
 from ..solvers import END_CRITERIA
 from .. import outputs
-from .common import add_force_option, print_json
+from .common import add_force_option, add_law_option, print_json
 
 
 DEFAULT_OUT = "viscontact-report/audit"
@@ -26,14 +26,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--all writes the full tables (CSV, Markdown) and plots into a directory.")
     what = p.add_mutually_exclusive_group(required=True)
     what.add_argument("--formula", metavar="NAME",
-                      help=f"one of: first-order (with --model), {', '.join(FORMULAS)}")
+                      help=f"one of: first-order (with --law), {', '.join(FORMULAS)}")
     what.add_argument("--engine", metavar="NAME", help=f"one of: {', '.join(ENGINES)}")
     what.add_argument("--all", action="store_true", help="write every table and plot into --out")
     p.add_argument("--e", type=float, help=f"target restitution coefficient in {_R('e')}")
     p.add_argument("--end", choices=END_CRITERIA, default=None,
                    help="formulas: end criterion of the exact solve (default force)")
-    p.add_argument("--model", default=None, help="formula first-order: the law (LH, Ts, KK, Li, Hunt, power)")
-    p.add_argument("--p", type=float, default=None, help=f"formula first-order with --model power: exponent in {_R('p')}")
+    add_law_option(p, "formula first-order: the law (LH, Ts, KK, Li, Hunt, power)")
+    p.add_argument("--p", type=float, default=None, help=f"formula first-order with --law power: exponent in {_R('p')}")
     p.add_argument("--damping", metavar="OPTION", default=None,
                    help="engine damping option; lammps: " + ", ".join(ENGINES["lammps"]))
     p.add_argument("--engine-version", metavar="VERSION", default=None,
@@ -102,7 +102,7 @@ def _no_engine_options(args: argparse.Namespace) -> None:
 def _formula(args: argparse.Namespace) -> int:
     _no_engine_options(args)
     if args.p is not None and args.formula.strip().lower() != "first-order":
-        raise ValueError("--p only applies to --formula first-order (with --model power)")
+        raise ValueError("--p only applies to --formula first-order (with --law power)")
     f = get_formula(args.formula, model=args.model, p=args.p)
     end = args.end or "force"
     r = audit_formula(f, args.e, end)
@@ -131,7 +131,7 @@ def _engine(args: argparse.Namespace) -> int:
     if args.end is not None:
         raise ValueError("--end is set by the engine; use --limit-damping / --limit-force where the engine has it")
     if args.model is not None or args.p is not None:
-        raise ValueError("--model/--p only apply to --formula first-order")
+        raise ValueError("--law/--p only apply to --formula first-order")
     pre = get_preset(args.engine, args.damping, args.engine_version)
     clamp: bool | None = None
     for flag, on in (("limit_damping", args.limit_damping), ("limitForce", args.limit_force)):
@@ -175,7 +175,7 @@ def _all(args: argparse.Namespace) -> int:
     extra = [f for f, v in (("--formula", args.formula), ("--engine", args.engine), ("--e", args.e),
                             ("--value", args.value), ("--damping", args.damping),
                             ("--engine-version", args.engine_version),
-                            ("--model", args.model), ("--p", args.p), ("--end", args.end))
+                            ("--law", args.model), ("--p", args.p), ("--end", args.end))
              if v is not None]
     extra += [f for f, v in (("--limit-damping", args.limit_damping),
                              ("--limit-force", args.limit_force)) if v]

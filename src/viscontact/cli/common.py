@@ -13,12 +13,23 @@ from ..solvers import END_CRITERIA
 from ..domain import range_text as _R
 
 
+def add_law_option(parser: argparse.ArgumentParser, help: str, required: bool = False) -> None:
+    """``--law NAME`` (stored as ``args.model``) and its deprecated spelling ``--model``, which
+    still works and adds one deprecation line on stderr.  Both name one option: giving both, or
+    either twice, is refused.  ``required``: checked by :func:`viscontact.cli.main` after
+    parsing, since argparse cannot require one of two spellings without a group."""
+    parser.add_argument("--law", dest="model", metavar="NAME", default=None, help=help)
+    parser.add_argument("--model", dest="model", metavar="NAME", default=None,
+                        action=_DeprecatedModel, help=argparse.SUPPRESS)
+    if required:
+        parser.set_defaults(_law_required=True)
+
+
 def add_model_options(parser: argparse.ArgumentParser, required: bool = True,
                       model_help: str = "") -> None:
-    parser.add_argument("--model", required=required, metavar="NAME",
-                        help=f"contact law: one of {', '.join(MODELS)}{model_help}")
+    add_law_option(parser, f"contact law: one of {', '.join(MODELS)}{model_help}", required)
     parser.add_argument("--p", type=float, default=None,
-                        help=f"damping exponent, only for --model power; {_R('p')}")
+                        help=f"damping exponent, only for --law power; {_R('p')}")
     parser.add_argument("--end", choices=END_CRITERIA, default="force",
                         help="end of contact: zero force (default, the study's choice) or zero overlap")
 
@@ -87,3 +98,12 @@ def once(cls: type[argparse.Action]) -> type[argparse.Action]:
 
     Once.__name__ = f"Once{cls.__name__}"
     return Once
+
+
+class _DeprecatedModel(once(argparse._StoreAction)):  # type: ignore[misc]
+    """``--model``: the old spelling of ``--law``; same value, one note on stderr.  It shares
+    ``--law``'s destination, so ``--law A --model B`` is refused as given twice."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        super().__call__(parser, namespace, values, option_string)
+        note("note: --model is deprecated; use --law (same meaning)")

@@ -13,7 +13,7 @@ from ..calibration import alpha_from_e, restitution
 from ..collision import collide
 from .. import outputs
 from . import physical
-from .common import add_force_option, add_model_options, conflict, print_json
+from .common import add_force_option, add_model_options, conflict, note, print_json
 from ..domain import range_text as _R
 
 
@@ -48,7 +48,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Find alpha so that the law gives restitution e exactly. With physical "
         "options (--mass, --k-hertz or --E/--nu with --radius, --v or --drop-height; or --ball) "
         "also print the time scale T, the physical damping coefficient c and tau = beta T, for "
-        "--model or for every law of the study.")
+        "--law or for every law of the study.")
     add_model_options(p, required=False,
                       model_help=" (required without physical options; with them, default: "
                       "every law of the study)")
@@ -90,7 +90,7 @@ def _collide(args: argparse.Namespace) -> int:
     if not r.separated:
         print(f"  note: {r.status}")
     if args.plot:
-        print(f"  plot written to {args.plot}")
+        note(f"plot written to {args.plot}")  # a status line (stderr), not a result
     return 0
 
 
@@ -128,7 +128,7 @@ def _calibrate(args: argparse.Namespace) -> int:
     if physical.has_physical(args):
         return physical.calibrate_physical_cmd(args)
     if args.model is None:
-        raise ValueError("give --model (or physical options such as --mass, --k-hertz, --v, "
+        raise ValueError("give --law (or physical options such as --mass, --k-hertz, --v, "
                          "or --ball)")
     if args.e is None:
         raise ValueError("give the target restitution coefficient --e")

@@ -47,5 +47,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--quick", action="store_true",
                    help="small systems and short runs (a few minutes on two cores)")
     add_force_option(p, "the report in DIR (only its own, unchanged files)")
-    p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    p.add_argument("--no-progress", "--quiet", dest="quiet", action="store_true",
+                   help="no progress on stderr (--quiet: the same)")
     p.set_defaults(handler=_dem_study)

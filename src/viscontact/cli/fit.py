@@ -66,7 +66,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    "(a new or empty directory, or one holding an earlier fit with --force)")
     add_force_option(o, "the files of an earlier fit in --out")
     o.add_argument("--json", action="store_true", help="print one JSON object on stdout")
-    o.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
+    o.add_argument("--no-progress", "--quiet", dest="quiet", action="store_true",
+                   help="no progress bar on stderr (--quiet: the same)")
     p.set_defaults(handler=_fit)
 
 

@@ -101,13 +101,13 @@ def _contact(args: argparse.Namespace) -> tuple[float, float, float | None, Any]
 
 
 def _models(args: argparse.Namespace, beta: float | None) -> list[str]:
-    """--model, or every study law (Jian only when beta is known)."""
+    """--law, or every study law (Jian only when beta is known)."""
     if args.model is not None:
         return [lookup(args.model).name]
     models = list(STUDY_MODELS)
     if beta is None:
         models.remove("Jian")
-        note("note: Jian skipped (give --beta, or --model Jian --beta B)")
+        note("note: Jian skipped (give --beta, or --law Jian --beta B)")
     return models
 
 
@@ -181,20 +181,28 @@ def _speeds(args: argparse.Namespace) -> np.ndarray:
 
 def _sweep_outputs(args: argparse.Namespace) -> list[tuple[str, str]]:
     """(path, kind) of each output, checked before any work ('-': stdout)."""
+    if args.json not in (None, "-"):
+        note("note: --json FILE is deprecated; use --json-out FILE (--json alone prints on stdout)")
     outs = [(path, kind) for path, kind in ((args.csv, "csv"), (args.json, "json"),
-                                            (args.plot, "plot")) if path is not None]
+                                            (args.json_out, "json"), (args.plot, "plot"))
+            if path is not None]
     if [p for p, _ in outs].count("-") > 1:
-        raise ValueError("only one of --csv - and --json - can go to stdout")
+        raise ValueError("only one of --csv -, --json and --json-out - can go to stdout")
     files = [os.path.abspath(p) for p, k in outs if p != "-"]
     if len(set(files)) < len(files):
-        raise ValueError("--csv, --json and --plot must name different files")
+        raise ValueError("--csv, --json-out and --plot must name different files")
     for path, kind in outs:
         if kind == "plot" or path != "-":
-            outputs.check_file(path, "sweep", args.force, f"--{kind}",
+            outputs.check_file(path, "sweep", args.force, _flag(kind),
                                ".png" if kind == "plot" else None)
     if args.force and not files:
-        raise ValueError("--force only goes with --csv FILE, --json FILE or --plot FILE")
+        raise ValueError("--force only goes with --csv FILE, --json-out FILE or --plot FILE")
     return outs or [("-", "csv")]
+
+
+def _flag(kind: str) -> str:
+    """The option that names a file of this kind (for messages)."""
+    return "--json-out" if kind == "json" else f"--{kind}"
 
 
 def _sweep(args: argparse.Namespace) -> int:
@@ -202,7 +210,7 @@ def _sweep(args: argparse.Namespace) -> int:
     speeds = _speeds(args)
     if args.c is not None:
         if args.model is None:
-            raise ValueError("--c needs --model (c's unit depends on the law)")
+            raise ValueError("--c needs --law (c's unit depends on the law)")
         if args.e is not None:
             raise ValueError("give --c (and --tau) or --e to calibrate, not both")
         if args.beta is not None:
@@ -242,7 +250,7 @@ def _sweep(args: argparse.Namespace) -> int:
             outputs.write_text(path, "sweep", args.force, "--csv", _sweep_csv(results))
             note(f"CSV written to {path}")
         else:
-            outputs.write_json(path, "sweep", args.force, "--json", doc)
+            outputs.write_json(path, "sweep", args.force, "--json-out", doc)
             note(f"JSON written to {path}")
     return 0
 
@@ -275,12 +283,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "sweep", help="e, t_c, F_max against impact speed with physical constants held fixed",
         description="Velocity sweep: hold m*, k_Hertz, c (and tau) fixed and vary the impact "
-        "speed. Either give --model with --c (and --tau for Jian), or calibrate at --v from a "
-        "measured --e (every law unless --model), or name a --ball.")
+        "speed. Either give --law with --c (and --tau for Jian), or calibrate at --v from a "
+        "measured --e (every law unless --law), or name a --ball.")
     add_model_options(p, required=False, model_help=" (default: every law of the study)")
     add_physical_options(p)
     d = p.add_argument_group("damping")
-    d.add_argument("--c", type=float, help="physical damping prefactor c [N s/m^(1+p)] (with --model; it must give "
+    d.add_argument("--c", type=float, help="physical damping prefactor c [N s/m^(1+p)] (with --law; it must give "
                    f"alpha in {_R('alpha')} at every speed)")
     d.add_argument("--tau", type=float, help=f"relaxation time tau [s] (Jian, with --c; beta = tau / T in {_R('beta')})")
     d.add_argument("--e", type=float, help=f"calibrate: restitution coefficient measured at --v, in {_R('e')}")
@@ -292,10 +300,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--num", type=int, default=None, help="number of speeds (default 24)")
     o = p.add_argument_group("output (default: CSV on stdout)")
     o.add_argument("--csv", metavar="FILE", help="write CSV ('-': stdout)")
-    o.add_argument("--json", metavar="FILE", help="write JSON ('-': stdout)")
+    o.add_argument("--json", nargs="?", const="-", metavar="FILE",
+                   help="print one JSON object on stdout (the old form --json FILE still writes "
+                   "FILE, with a deprecation note: use --json-out FILE)")
+    o.add_argument("--json-out", metavar="FILE", help="write the JSON object to FILE ('-': stdout)")
     o.add_argument("--plot", metavar="FILE.png",
                    help="plot e, t_c, F_max against v as PNG (the name must end in .png)")
-    add_force_option(p, "the --csv, --json and --plot files")
+    add_force_option(p, "the --csv, --json-out and --plot files")
     p.set_defaults(handler=_sweep)
 
     p = sub.add_parser(
@@ -307,5 +318,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--force", action="store_true",
                    help="replace an earlier report in DIR (only its own, unchanged files; a "
                    "directory that is not empty and holds no report is always refused)")
-    p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    p.add_argument("--no-progress", "--quiet", dest="quiet", action="store_true",
+                   help="no progress on stderr (--quiet: the same)")
     p.set_defaults(handler=_reproduce)
