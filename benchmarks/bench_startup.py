@@ -22,22 +22,22 @@ TARGET_S = 1.0
 
 #: (label, arguments after ``viscontact``, held to the target)
 COMMANDS: list[tuple[str, list[str], bool]] = [
-    ("collide Jian force", ["collide", "--model", "Jian", "--alpha", "0.3", "--beta", "0.5"], True),
+    ("collide Jian force", ["collide", "--law", "Jian", "--alpha", "0.3", "--beta", "0.5"], True),
     ("collide Jian overlap --json",
-     ["collide", "--model", "Jian", "--alpha", "0.3", "--beta", "0.5", "--end", "overlap", "--json"],
+     ["collide", "--law", "Jian", "--alpha", "0.3", "--beta", "0.5", "--end", "overlap", "--json"],
      True),
-    ("collide LH force", ["collide", "--model", "LH", "--alpha", "0.3"], True),
-    ("collide Ts overlap", ["collide", "--model", "Ts", "--alpha", "0.3", "--end", "overlap"], True),
-    ("collide KK force --json", ["collide", "--model", "KK", "--alpha", "0.3", "--json"], True),
-    ("collide Li overlap", ["collide", "--model", "Li", "--alpha", "1.0", "--end", "overlap"], True),
-    ("collide Hunt force", ["collide", "--model", "Hunt", "--alpha", "0.3"], True),
-    ("collide power force", ["collide", "--model", "power", "--p", "0.75", "--alpha", "0.3"], True),
+    ("collide LH force", ["collide", "--law", "LH", "--alpha", "0.3"], True),
+    ("collide Ts overlap", ["collide", "--law", "Ts", "--alpha", "0.3", "--end", "overlap"], True),
+    ("collide KK force --json", ["collide", "--law", "KK", "--alpha", "0.3", "--json"], True),
+    ("collide Li overlap", ["collide", "--law", "Li", "--alpha", "1.0", "--end", "overlap"], True),
+    ("collide Hunt force", ["collide", "--law", "Hunt", "--alpha", "0.3"], True),
+    ("collide power force", ["collide", "--law", "power", "--p", "0.75", "--alpha", "0.3"], True),
     ("--help", ["--help"], True),
     ("collide --help", ["collide", "--help"], True),
     ("fit --help", ["fit", "--help"], True),
     ("audit --help", ["audit", "--help"], True),
-    ("restitution (tables)", ["restitution", "--model", "KK", "--alpha", "0.3"], False),
-    ("calibrate (tables)", ["calibrate", "--model", "Hunt", "--e", "0.463"], False),
+    ("restitution (tables)", ["restitution", "--law", "KK", "--alpha", "0.3"], False),
+    ("calibrate (tables)", ["calibrate", "--law", "Hunt", "--e", "0.463"], False),
 ]
 
 
