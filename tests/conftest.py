@@ -51,3 +51,22 @@ def report(tmp_path_factory):
     seconds = time.perf_counter() - t0
     assert proc.returncode == 0, proc.stderr
     return base / "viscontact-report", seconds, proc
+
+
+@pytest.fixture(scope="session")
+def quick_dem_study(tmp_path_factory):
+    """``quick_dem_study()``: the session's one ``viscontact dem-study --quick`` run, made on
+    first call (LAMMPS runs at the same time on every core: ``--jobs`` default) and shared by
+    every test that needs it: (report directory, seconds it took, process)."""
+    done = []
+
+    def get():
+        if not done:
+            base = tmp_path_factory.mktemp("dem-study")
+            t0 = time.perf_counter()
+            proc = run_cli("dem-study", "--quick", "--out", base / "rep", cwd=base, timeout=1800)
+            assert proc.returncode == 0, proc.stderr
+            done.append((base / "rep", time.perf_counter() - t0, proc))
+        return done[0]
+
+    return get

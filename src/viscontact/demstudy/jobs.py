@@ -15,19 +15,61 @@ LAMMPS is stopped (each run's poll loop sees :func:`cancelled`) before the first
 
 from __future__ import annotations
 
+import contextvars
+import heapq
+import itertools
 import threading
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import FIRST_EXCEPTION, Future, ThreadPoolExecutor, wait
 from contextlib import contextmanager
 from typing import TypeVar
 
-__all__ = ["concurrent", "pmap", "run_each", "slot", "cancelled", "Cancelled", "default_jobs"]
+__all__ = ["concurrent", "pmap", "run_each", "first", "slot", "cancelled", "Cancelled", "default_jobs"]
 
 T = TypeVar("T")
 R = TypeVar("R")
 
-_slots: threading.BoundedSemaphore | None = None
 _cancel = threading.Event()
+#: the order in which waiting runs get a free slot (lower first), set per branch by
+#: :func:`first`; threads started by :func:`pmap` inherit it
+_priority: contextvars.ContextVar[int] = contextvars.ContextVar("dem_study_priority", default=0)
+
+
+class _Slots:
+    """``n`` slots for LAMMPS processes; a freed slot goes to the waiting run of lowest
+    (priority, arrival), so that the long branches start early and short runs fill the end."""
+
+    def __init__(self, n: int):
+        self.free = n
+        self.cond = threading.Condition()
+        self.waiting: list[tuple[int, int]] = []  # heap of tickets
+        self.seq = itertools.count()
+
+    def acquire(self) -> None:
+        with self.cond:
+            ticket = (_priority.get(), next(self.seq))
+            heapq.heappush(self.waiting, ticket)
+            try:
+                while not (self.free > 0 and self.waiting[0] == ticket):
+                    if _cancel.is_set():
+                        raise Cancelled()
+                    self.cond.wait(0.2)
+            except BaseException:
+                self.waiting.remove(ticket)
+                heapq.heapify(self.waiting)
+                self.cond.notify_all()
+                raise
+            heapq.heappop(self.waiting)
+            self.free -= 1
+            self.cond.notify_all()  # the next ticket may take another free slot
+
+    def release(self) -> None:
+        with self.cond:
+            self.free += 1
+            self.cond.notify_all()
+
+
+_slots: _Slots | None = None
 
 
 class Cancelled(Exception):
@@ -47,7 +89,7 @@ def concurrent(jobs: int) -> Iterator[None]:
     LAMMPS processes run at once (``jobs`` = 1: one after the other, as without the block)."""
     global _slots
     prev = _slots
-    _slots = threading.BoundedSemaphore(jobs) if jobs > 1 else None
+    _slots = _Slots(jobs) if jobs > 1 else None
     _cancel.clear()
     try:
         yield
@@ -64,19 +106,31 @@ def cancelled() -> bool:
 @contextmanager
 def slot() -> Iterator[None]:
     """Hold one of the LAMMPS slots of :func:`concurrent` (nothing outside it)."""
-    sem = _slots
-    if sem is None:
+    slots = _slots
+    if slots is None:
         yield
         return
-    while not sem.acquire(timeout=0.2):
-        if _cancel.is_set():
-            raise Cancelled()
+    slots.acquire()
     try:
         if _cancel.is_set():
             raise Cancelled()
         yield
+    except BaseException:
+        _cancel.set()  # before the slot is free: no other run starts after a failure
+        raise
     finally:
-        sem.release()
+        slots.release()
+
+
+def first(priority: int, fn: Callable[[], R]) -> Callable[[], R]:
+    """``fn`` whose LAMMPS runs (and those of the threads it starts) wait for a slot with
+    ``priority`` (lower: sooner; default 0)."""
+
+    def run() -> R:
+        _priority.set(priority)
+        return fn()
+
+    return run
 
 
 def pmap(fn: Callable[[T], R], items: Iterable[T]) -> list[R]:
@@ -89,7 +143,8 @@ def pmap(fn: Callable[[T], R], items: Iterable[T]) -> list[R]:
     if _slots is None or len(items) <= 1:
         return [fn(x) for x in items]
     ex = ThreadPoolExecutor(max_workers=len(items), thread_name_prefix="dem-study")
-    futs: list[Future] = [ex.submit(fn, x) for x in items]
+    # each thread runs in a copy of the caller's context: it inherits the priority
+    futs: list[Future] = [ex.submit(contextvars.copy_context().run, fn, x) for x in items]
     try:
         while True:  # short waits: a signal handler in the main thread runs between them
             done, pending = wait(futs, timeout=0.5, return_when=FIRST_EXCEPTION)

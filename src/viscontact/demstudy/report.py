@@ -112,14 +112,16 @@ def run_all(cfg: StudyConfig, work: Path, np_: int, step, jobs: int = 1) -> Resu
             return out
         return run
 
+    # the gas (the longest chains: thermalise, then cool) gets free slots first, the short
+    # bounce runs last, where they fill the end
     with jobs_mod.concurrent(jobs), stop_on_signals():
         res.bounces, res.gas, res.flow = jobs_mod.run_each(
-            timed("bounce", lambda: bounce_mod.run_bounces(
-                work / "bounce", balls=cfg.balls, models=cfg.models, step=step)),
-            timed("gas", lambda: gas_mod.run_gas(
-                work / "gas", cfg.gas, models=cfg.models, np_=np_, step=step, haff=cfg.haff)),
-            timed("flow", lambda: flow_mod.run_flow(
-                work / "flow", cfg.flow, models=cfg.models, np_=np_, step=step)))
+            jobs_mod.first(2, timed("bounce", lambda: bounce_mod.run_bounces(
+                work / "bounce", balls=cfg.balls, models=cfg.models, step=step))),
+            jobs_mod.first(0, timed("gas", lambda: gas_mod.run_gas(
+                work / "gas", cfg.gas, models=cfg.models, np_=np_, step=step, haff=cfg.haff))),
+            jobs_mod.first(1, timed("flow", lambda: flow_mod.run_flow(
+                work / "flow", cfg.flow, models=cfg.models, np_=np_, step=step))))
     res.seconds = {k: res.seconds[k] for k in ("bounce", "gas", "flow")}
     return res
 
