@@ -13,7 +13,7 @@ import time
 import numpy as np
 import pytest
 
-from viscontact.demstudy import bounce, gas, theory
+from viscontact.demstudy import bounce, gas, jobs, theory
 from viscontact.demstudy.engine import LawSpec
 from viscontact.demstudy.report import QUICK, report_files
 from viscontact.outputs import MANIFEST
@@ -46,16 +46,19 @@ def isolated_drops(tmp_path_factory):
     cals = calibrate_ball(b)
     tc0 = hertz_limit(b.mass, b.k_hertz, b.v_in)[0]
     dt = tc0 / 1000
-    out = {}
-    for m, cal in cals.items():
+    def one(m):
+        cal = cals[m]
         law = LawSpec(m, b.e, b.v_in, cal.beta)
         ex = theory.bounce_sequence(m, m=b.mass, k_hertz=b.k_hertz, c=cal.c, tau=cal.tau,
                                     height=bounce.DROP_HEIGHT, h_min=bounce.H_MIN)
         t_max = min(ex.t_rest + 0.05, 1.2)
-        dem = bounce.run_drop(b, law, work / m, gic=0, dt=dt, t_max=t_max)
-        grav = bounce.run_drop(b, law, work / f"{m}-g", gic=1, dt=dt, t_max=0.5)
-        out[m] = (ex, dem, grav, cal)
-    return out
+        dem, grav = jobs.pmap(lambda g: bounce.run_drop(
+            b, law, work / (m + ("-g" if g else "")), gic=g, dt=dt, t_max=t_max if g == 0 else 0.5),
+            (0, 1))
+        return ex, dem, grav, cal
+
+    with jobs.concurrent(jobs.default_jobs()):  # the 12 runs at the same time, on every core
+        return dict(zip(cals, jobs.pmap(one, list(cals))))
 
 
 @pytest.mark.parametrize("model", ["LH", "Ts", "KK", "Li", "Hunt", "Jian"])
@@ -395,7 +398,6 @@ def test_native_stand_in_lines_carry_the_calibrated_damping(model):
 def test_concurrent_runs_keep_order_bound_and_priority():
     # pmap returns the results in the order of the items whatever order they finish in; at
     # most `jobs` slots are held at once; a freed slot goes to the lowest priority waiting
-    from viscontact.demstudy import jobs
 
     held, peak, order = [0], [0], []
     lock = threading.Lock()
@@ -440,7 +442,6 @@ def test_concurrent_runs_keep_order_bound_and_priority():
 def test_a_failing_run_stops_the_others():
     # the first error is raised (not the Cancelled of the runs it stopped), and only once
     # every other run has ended; a run waiting for a slot never starts
-    from viscontact.demstudy import jobs
 
     started, ended = [], []
 

@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from ..dimensional import STANDARD_GRAVITY, hertz_limit
-from ..experiment import Ball, calibrate_ball, load_balls
+from ..experiment import Ball, PhysicalCalibration, calibrate_ball, load_balls
 from ..laws import STUDY_MODELS
 from . import jobs, theory
 from .engine import LawSpec, Material, Wall, coeff_text, read_dump, run_lammps
@@ -193,7 +193,8 @@ def run_bounces(workdir: Path, *, balls: tuple[str, ...] = ("ILB", "OLB"),
     DEM with gravity only in flight.  dt = t_c(elastic, 171.6 cm/s) / steps_per_contact."""
     from ..dimensional import impact
 
-    def one(item: tuple[Ball, float, str, object]) -> BounceCase:
+    def one(item: tuple[Ball, float, str, PhysicalCalibration]) -> BounceCase:
+        """One ball with one law: the exact sequence and its two DEM drops (concurrently)."""
         b, dt, m, cal = item
         key = b.key
         law = LawSpec(m, b.e, b.v_in, cal.beta)
