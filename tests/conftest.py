@@ -54,8 +54,9 @@ def report(tmp_path_factory):
 
 
 # The quick DEM study takes minutes of LAMMPS runs: it starts in the background when the session
-# begins (its runs on every core, time-shared with the tests: no core idles while the tests wait
-# for it at the end), the tests that read it run last, and every test shares the one report.
+# begins (its runs on every core at a lower priority: the tests are not slowed, and no core idles
+# while the tests wait for it at the end), the tests that read it run last, and every test
+# shares the one report.
 _STUDY_FIXTURE = "quick_dem_study"
 
 
@@ -72,7 +73,16 @@ def _start_study(base: Path) -> subprocess.Popen:
         return subprocess.Popen(
             [sys.executable, "-m", "viscontact", "dem-study", "--quick", "--out",
              str(base / "rep")], cwd=base, env=env, stdin=subprocess.DEVNULL,
-            stdout=out, stderr=err)
+            stdout=out, stderr=err, preexec_fn=_lower_priority)
+
+
+def _lower_priority() -> None:
+    """Niceness 10 for the study and its LAMMPS runs: the tests keep their core while they run,
+    the study takes every core that would idle (all of them once the tests wait for it)."""
+    try:
+        os.nice(10)
+    except OSError:  # pragma: no cover - not allowed here: the same priority then
+        pass
 
 
 @pytest.fixture(scope="session", autouse=True)
