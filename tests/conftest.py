@@ -116,12 +116,31 @@ _STUDY_FIXTURE = "quick_dem_study"
 @pytest.hookimpl(tryfirst=True)  # before xdist names the groups
 def pytest_collection_modifyitems(session, config, items):
     """The tests that read the quick DEM study run last (it is computed meanwhile).  In a
-    parallel run the tests of the one ``report`` run in one worker (it is built once)."""
+    parallel run the tests that share a costly fixture run in one worker, which builds it
+    once: those of the one ``report``, and those of a module that share a module-scoped
+    fixture (a LAMMPS run that many tests check)."""
     items[:] = ([it for it in items if _STUDY_FIXTURE not in getattr(it, "fixturenames", ())]
                 + [it for it in items if _STUDY_FIXTURE in getattr(it, "fixturenames", ())])
     for it in items:
-        if "report" in getattr(it, "fixturenames", ()):
-            it.add_marker(pytest.mark.xdist_group("report"))
+        group = _shared_fixture_group(it)
+        if group:
+            it.add_marker(pytest.mark.xdist_group(group))
+
+
+def _shared_fixture_group(item) -> str | None:
+    """The xdist group of a test that uses the session's ``report`` or a fixture its module
+    shares between tests (module or class scope), else None."""
+    names = getattr(item, "fixturenames", ())
+    if "report" in names:
+        return "report"
+    defs = getattr(getattr(item, "_fixtureinfo", None), "name2fixturedefs", {})
+    shared = [n for n in names if defs.get(n) and defs[n][-1].scope in ("module", "class")]
+    if not shared:
+        return None
+    # a parametrized shared fixture: one instance per parameter, a group for each
+    indices = getattr(getattr(item, "callspec", None), "indices", {})
+    return "-".join([Path(str(item.fspath)).stem]
+                    + [f"{n}{indices[n]}" for n in sorted(shared) if n in indices])
 
 
 def _study_args(base: Path) -> list[str]:
