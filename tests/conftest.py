@@ -29,7 +29,8 @@ SRC = str(Path(viscontact.__file__).resolve().parents[1])
 # The README's `python3 -m pytest` (the whole suite, no paths given) runs on the cores with
 # pytest-xdist when it is installed: one worker per core, at most _MAX_WORKERS (the DEM tests
 # start LAMMPS with up to 2 ranks each).  A run of chosen files, `-n N` given, `-p no:xdist`, or
-# VISCONTACT_TEST_WORKERS=0 runs as asked (VISCONTACT_TEST_WORKERS=N: N workers for any run).
+# VISCONTACT_TEST_WORKERS=0 runs as asked (VISCONTACT_TEST_WORKERS=N: N workers for any run);
+# --pdb, -s and --stepwise, which need one process, keep it.
 # What a session builds once (force tables, the plugin, the quick DEM study) is shared by the
 # workers of a run through a directory of the run (:func:`_run_dir`), built under file locks.
 _MAX_WORKERS = 4
@@ -41,7 +42,8 @@ def pytest_cmdline_main(config):
     opt = config.option
     if (not config.pluginmanager.hasplugin("xdist") or hasattr(config, "workerinput")
             or opt.numprocesses is not None or opt.dist != "no" or opt.tx
-            or config.getoption("usepdb", False) or opt.collectonly):
+            or config.getoption("usepdb", False) or opt.collectonly
+            or getattr(opt, "stepwise", False) or getattr(opt, "capture", "") == "no"):
         return
     want = os.environ.get("VISCONTACT_TEST_WORKERS", "")
     if want.strip():
