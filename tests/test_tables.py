@@ -187,6 +187,48 @@ def test_cache_corrupt_file_is_rebuilt(fresh_cache):
         assert d["coef"].shape == table.coef.shape
 
 
+# a first use that counts its builds: "_build" returns the session's table (from the file
+# argv[1]) after a pause long enough for the other processes to find the cache empty
+_COUNTED_BUILD = """
+import sys, time
+import numpy as np
+from viscontact import tables
+def build(law, end):
+    print("built", flush=True)
+    time.sleep(1.0)
+    with np.load(sys.argv[1]) as d:
+        return tables.Table.from_arrays(law, end, d)
+tables._build = build
+print("table", tables.get_table("Li", "force") is not None, flush=True)
+"""
+
+
+def test_concurrent_first_uses_build_a_table_once(tmp_path):
+    """Three processes sharing an empty cache (parallel test workers, a command and its
+    subprocesses) ask for one table at once: one builds it, the others wait for its file
+    (file lock, checked again after the wait); one table file, no temporary files left."""
+    import os
+    import subprocess
+    import sys
+
+    from conftest import SRC
+
+    tables.get_table("Li", "force")
+    source = tables.table_path("Li", "force")
+    cache = tmp_path / "cache"
+    env = dict(os.environ, VISCONTACT_CACHE_DIR=str(cache),
+               PYTHONPATH=SRC + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    procs = [subprocess.Popen([sys.executable, "-c", _COUNTED_BUILD, str(source)], env=env,
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+             for _ in range(3)]
+    outs = [p.communicate(timeout=300) for p in procs]
+    assert all(p.returncode == 0 for p in procs), [o[1][-500:] for o in outs]
+    lines = [ln for out, _ in outs for ln in out.split()]
+    assert lines.count("built") == 1 and lines.count("True") == 3, outs
+    assert sorted(p.name for p in cache.glob("*.npz")) == [source.name]
+    assert not list(cache.glob("*.tmp"))
+
+
 def test_build_refuses_a_table_that_misses_the_exact_solver(fresh_cache, monkeypatch):
     monkeypatch.setattr(tables, "VERIFY_TOL", 1e-30)
     with pytest.warns(RuntimeWarning, match="misses the exact solver"):

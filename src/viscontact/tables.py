@@ -50,9 +50,10 @@ import sys
 import tempfile
 import threading
 import warnings
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Iterator
 
 import numba
 import numpy as np
@@ -1049,6 +1050,27 @@ def _save(table: Table) -> None:
                       RuntimeWarning, stacklevel=3)
 
 
+@contextmanager
+def _build_lock(law: str, end: str) -> Iterator[None]:
+    """Hold an exclusive lock on this table's cache entry across processes (POSIX flock), so
+    that processes sharing a cache directory (parallel test workers, a tool and its
+    subprocesses) build a missing table once; without a writable cache (or flock) no lock."""
+    try:
+        import fcntl
+
+        cache_dir().mkdir(parents=True, exist_ok=True)
+        fh = open(cache_dir() / f".table-{law}-{end}.lock", "w")
+    except (ImportError, OSError):
+        yield
+        return
+    with fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)
+
+
 def get_table(law: str, end: str) -> Table | None:
     """The table of ``law`` (registered name) for ``end``, loaded or built on first use.
 
@@ -1059,15 +1081,20 @@ def get_table(law: str, end: str) -> Table | None:
         return None
     with _LOCK:
         if (law, end) not in _MEMORY:
+            missing = not table_path(law, end).exists()
             table = _load(law, end)
             if table is None:
-                try:
-                    table = _build(law, end)
-                except RuntimeError as exc:
-                    warnings.warn(f"viscontact: {exc}; the exact solver answers instead",
-                                  RuntimeWarning, stacklevel=2)
-                else:
-                    _save(table)
+                with _build_lock(law, end):
+                    if missing:  # built by another process while this one waited?
+                        table = _load(law, end)
+                    if table is None:
+                        try:
+                            table = _build(law, end)
+                        except RuntimeError as exc:
+                            warnings.warn(f"viscontact: {exc}; the exact solver answers instead",
+                                          RuntimeWarning, stacklevel=2)
+                        else:
+                            _save(table)
             _MEMORY[law, end] = table
         return _MEMORY[law, end]
 
