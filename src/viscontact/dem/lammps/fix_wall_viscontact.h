@@ -37,7 +37,13 @@
    History per atom: up to tmax contacts (1 for planes and zcylinder), each [wall index, the
    contact model's history].  It migrates with the atom and is written to restart files; a
    region's motion state and the wiggle origin go to the global restart record.  A run's setup
-   reads the history and never writes it.
+   evaluates stored contacts in place (the Coulomb cap may rewrite them, as native) and new
+   ones on a scratch copy; it neither adds nor ends contacts.
+
+   Energy (viscontact::EnergySource, read by compute viscontact/energy once it asks): per atom,
+   the cumulative energy its wall contacts dissipated, by mechanism (migrates, restart), and
+   their elastic energy now; a wall contact counts fully on its atom.  A contact that ends
+   releases its last elastic energy into the dissipated columns (ContactModel::release).
 
    Output: global vector (3), the total force of the wall on the group; with `contacts`, the
    per-atom array of LAMMPS fix wall/gran (8 columns: touching flag, force x y z of the last
@@ -161,6 +167,7 @@ class FixWallViscontact : public Fix, public viscontact::EnergySource {
   double parse_coordinate(const std::string &key, const char *text, bool &present);
   int parse_dim(const std::string &key, const std::string &text);
   void contact(int i, double *hist, const Touch &c, bool update_history, double t_now);
+  void end_contacts(int i, int nkept);
   double effective_radius(double r, double rwall) const
   {
     return rwall == 0.0 ? r : r * rwall / (r + rwall);
