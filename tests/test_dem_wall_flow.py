@@ -5,7 +5,8 @@ shaken floor plate (``zplane ... wiggle``) cutting the drum.  Checks:
 - trajectories over 2000 steps equal native LAMMPS (``pair granular`` + ``fix
   wall/gran/region`` + ``fix wall/gran`` with ``damping velocity``, i.e. our LH ``c0``) to
   1e-8 of the largest value;
-- 2 ranks give what 1 rank gives, to 1e-8;
+- 2 ranks give what 1 rank gives, to 1e-8, the energies of compute viscontact/energy included
+  (per-atom dissipation migrating with the atoms);
 - write_restart after 500 steps, read_restart and 500 more steps equals 1000 steps in one run
   (per-atom wall histories, the region's motion and the wiggle phase restored), to 1e-8;
   negative control: the wall fixes defined under new IDs after read_restart lose their
@@ -48,13 +49,20 @@ variable g equal 0
 {walls}
 fix g all gravity 9.81 vector 0 0 -1
 fix 1 all nve/sphere
+{energy}
 neighbor 0.001 bin
 neigh_modify delay 0 every 1 check yes
 timestep {dt}
 thermo 0
 {body}
 write_dump all custom {out} id x y z vx vy vz omegax omegay omegaz modify sort id format float %.17g
+{print_energy}
 """
+#: ours: compute viscontact/energy, invoked by thermo on the last step, printed at the end
+ENERGY = ("compute e all viscontact/energy\n"
+          "thermo_style custom step c_e[1] c_e[2] c_e[3] c_e[4] c_e[5] c_e[6] c_e[8]")
+PRINT_ENERGY = ('print "ENERGY $(c_e[1]:%.17g) $(c_e[2]:%.17g) $(c_e[3]:%.17g) $(c_e[4]:%.17g) '
+                '$(c_e[5]:%.17g) $(c_e[6]:%.17g) $(c_e[8]:%.17g)"')
 REGION = "region drum cylinder y 0 0 0.05 INF INF side in rotate v_th 0 0 0 0 1 0"
 FLOOR = "zplane -0.035 NULL wiggle z 0.001 0.05"
 
@@ -92,21 +100,32 @@ def drum(tmp_path_factory):
 def _run(d, impl, out, body, *, np_=1, start="read_data drum.data", region=REGION, ids=None):
     pair, walls = _lines(impl, ids or ("wd", "wf"))
     script = _HEAD.format(plugin=plugin_line(), start=start, region=region, pair=pair,
-                          walls=walls, dt=DT, body=body, out=out)
+                          walls=walls, dt=DT, body=body, out=out,
+                          energy=ENERGY if impl == "ours" else "",
+                          print_energy=PRINT_ENERGY if impl == "ours" else "")
     proc = run_lmp(script, d, np=np_, name=f"in.{out}")
     assert_ok(proc)
-    return read_atoms(d / out)
+    atoms = read_atoms(d / out)
+    if impl == "ours":    # dissipated total, 5 mechanisms, elastic total
+        line = [ln for ln in proc.stdout.splitlines() if ln.startswith("ENERGY ")][-1]
+        atoms["energy"] = np.array([float(v) for v in line.split()[1:]])
+    return atoms
 
 
 def _rel(a, b) -> float:
+    """Largest difference of the atoms' columns (and of the energies) relative to the
+    largest value of each."""
+    cols = COLUMNS + (("energy",) if "energy" in a and "energy" in b else ())
     return max(float(np.abs(a[c] - b[c]).max() / max(np.abs(a[c]).max(), 1e-300))
-               for c in COLUMNS)
+               for c in cols)
 
 
 def test_drum_trajectories_as_native(drum):
     ours = _run(drum, "ours", "ours.dump", "run 2000")
     native = _run(drum, "native", "native.dump", "run 2000")
     assert _rel(native, ours) < TOL
+    # the walls and pairs dissipated: damping, sliding
+    assert ours["energy"][0] > 0 and ours["energy"][1] > 0 and ours["energy"][3] > 0
     # the flow did something: the spheres moved by more than a radius on average
     start = _run(drum, "ours", "start.dump", "run 0")
     moved = np.hypot(ours["x"] - start["x"], ours["z"] - start["z"])
@@ -130,3 +149,6 @@ def test_drum_restart_continues(drum):
     lost = _run(drum, "ours", "lost.dump", "run 500", start="read_restart drum.restart",
                 ids=("wd2", "wf2"))
     assert _rel(ref, lost) > 1e-6
+    # the energies (per-atom cumulative dissipation restored from the restart file) too; the
+    # walls under new IDs start counting from zero
+    assert abs(lost["energy"][0] / ref["energy"][0] - 1) > 1e-3
