@@ -67,18 +67,40 @@ REGION = "region drum cylinder y 0 0 0.05 INF INF side in rotate v_th 0 0 0 0 1 
 FLOOR = "zplane -0.035 NULL wiggle z 0.001 0.05"
 
 
-def _lines(impl: str, ids=("wd", "wf")) -> tuple[str, str]:
+#: (native model, our model) of the flow: the same contact model (LH c0 = damping velocity)
+MODELS = {
+    "mindlin": (f"hertz/material {E!r} {C0} {NU} damping velocity tangential mindlin NULL 0.0 "
+                f"{MU} limit_damping",
+                f"damping LH c0 {C0} end force tangential mindlin {MU}"),
+    "rolling-twisting": (
+        f"hertz/material {E!r} {C0} {NU} damping velocity tangential mindlin_rescale NULL 0.5 "
+        f"{MU} rolling sds 20 0.01 0.1 twisting marshall limit_damping",
+        f"damping LH c0 {C0} end force tangential mindlin_rescale NULL 0.5 {MU} "
+        "rolling sds 20 0.01 0.1 twisting marshall"),
+    "jkr": (
+        f"jkr {E!r} {C0} {NU} 0.2 damping velocity tangential linear_history 3000 0.5 {MU} "
+        "twisting sds 1e-4 1e-6 0.002",
+        f"normal jkr 0.2 damping LH c0 {C0} tangential linear_history 3000 0.5 {MU} "
+        "twisting sds 1e-4 1e-6 0.002"),
+}
+
+
+def _lines(impl: str, ids=("wd", "wf"), model: str = "mindlin") -> tuple[str, str]:
+    native, ours = MODELS[model]
     if impl == "native":
-        model = (f"hertz/material {E!r} {C0} {NU} damping velocity tangential mindlin NULL 0.0 "
-                 f"{MU} limit_damping")
-        pair = f"pair_style granular\npair_coeff * * {model}"
-        walls = (f"fix {ids[0]} all wall/gran/region granular {model} region drum\n"
-                 f"fix {ids[1]} all wall/gran granular {model} {FLOOR}")
+        pair = f"pair_style granular\npair_coeff * * {native}"
+        walls = (f"fix {ids[0]} all wall/gran/region granular {native} region drum\n"
+                 f"fix {ids[1]} all wall/gran granular {native} {FLOOR}")
     else:
-        model = f"damping LH c0 {C0} end force tangential mindlin {MU}"
-        pair = f"pair_style viscontact\npair_coeff * * hertz/material {E!r} {NU} {model}"
-        walls = (f"fix {ids[0]} all viscontact/wall region drum wall_material {E!r} {NU} {model}\n"
-                 f"fix {ids[1]} all viscontact/wall {FLOOR} wall_material {E!r} {NU} {model}")
+        # pair viscontact's NORMAL words: hertz/material E NU, or jkr E NU W
+        normal = f"hertz/material {E!r} {NU}"
+        words = ours
+        if ours.startswith("normal jkr "):
+            w, words = ours.split()[2], " ".join(ours.split()[3:])
+            normal = f"jkr {E!r} {NU} {w}"
+        pair = f"pair_style viscontact\npair_coeff * * {normal} {words}"
+        walls = (f"fix {ids[0]} all viscontact/wall region drum wall_material {E!r} {NU} {ours}\n"
+                 f"fix {ids[1]} all viscontact/wall {FLOOR} wall_material {E!r} {NU} {ours}")
     return pair, walls
 
 
@@ -97,8 +119,9 @@ def drum(tmp_path_factory):
     return d
 
 
-def _run(d, impl, out, body, *, np_=1, start="read_data drum.data", region=REGION, ids=None):
-    pair, walls = _lines(impl, ids or ("wd", "wf"))
+def _run(d, impl, out, body, *, np_=1, start="read_data drum.data", region=REGION, ids=None,
+         model="mindlin"):
+    pair, walls = _lines(impl, ids or ("wd", "wf"), model)
     script = _HEAD.format(plugin=plugin_line(), start=start, region=region, pair=pair,
                           walls=walls, dt=DT, body=body, out=out,
                           energy=ENERGY if impl == "ours" else "",
@@ -120,14 +143,15 @@ def _rel(a, b) -> float:
                for c in cols)
 
 
-def test_drum_trajectories_as_native(drum):
-    ours = _run(drum, "ours", "ours.dump", "run 2000")
-    native = _run(drum, "native", "native.dump", "run 2000")
+@pytest.mark.parametrize("model", list(MODELS))
+def test_drum_trajectories_as_native(drum, model):
+    ours = _run(drum, "ours", f"ours-{model}.dump", "run 2000", model=model)
+    native = _run(drum, "native", f"native-{model}.dump", "run 2000", model=model)
     assert _rel(native, ours) < TOL
     # the walls and pairs dissipated: damping, sliding
     assert ours["energy"][0] > 0 and ours["energy"][1] > 0 and ours["energy"][3] > 0
     # the flow did something: the spheres moved by more than a radius on average
-    start = _run(drum, "ours", "start.dump", "run 0")
+    start = _run(drum, "ours", f"start-{model}.dump", "run 0", model=model)
     moved = np.hypot(ours["x"] - start["x"], ours["z"] - start["z"])
     assert moved.mean() > R
 
