@@ -152,3 +152,49 @@ def test_sub_models_as_native(tmp_path, case, np_):
     assert dx <= 1e-8 * D, dx / D
     assert df <= 1e-10, df
     assert dt <= 1e-10, dt
+
+
+_HEAT = """{plugin}
+units si
+atom_style sphere
+atom_modify map array
+boundary p p p
+comm_modify vel yes
+fix p all property/atom temperature heatflow
+read_data {data} fix p NULL NULL
+set group all temperature 300
+set atom 1*13 temperature 400
+pair_style {style}
+pair_coeff * * {coeff} heat area 3.0
+neighbor 0.0005 bin
+timestep {dt}
+fix 1 all nve/sphere
+fix h all heat/flow constant 1.0
+compute hf all property/atom temperature heatflow
+dump d all custom 50 {out} id c_hf[1] c_hf[2]
+dump_modify d format float %.17g sort id
+run 200
+"""
+
+
+@pytest.mark.parametrize("case", ["LH_linear_history_rolling_twist_marshall",
+                                  "jkr_LH_linear_history_rolling_twist"])
+def test_heat_area_as_native(tmp_path, case):
+    """heat area K with fix heat/flow: per-atom heat flow and temperature of every dumped step
+    equal native's (Q = K pi a^2 (T_j - T_i), a the normal model's contact radius)."""
+    from viscontact import dem
+
+    _pack(tmp_path / "pack.data")
+    got = {}
+    for style, coeff in zip(("viscontact", "granular"), CASES[case]):
+        out = f"heat.{style}"
+        proc = run_lmp(_HEAT.format(plugin=plugin_line(), data="pack.data", style=style,
+                                    coeff=coeff, dt=DT, out=out), tmp_path, name=f"in.{out}")
+        assert_ok(proc)
+        got[style] = np.array([np.stack([np.asarray(fr.columns[c]) for c in ("c_hf[1]", "c_hf[2]")], 1)
+                               for fr in dem.read_dump(tmp_path / out)])
+    ours, nat = got["viscontact"], got["granular"]
+    qpeak = np.abs(nat[:, :, 1]).max()
+    assert qpeak > 0 and np.abs(nat[-1, :, 0] - nat[0, :, 0]).max() > 0    # heat flows
+    assert np.abs(ours[:, :, 1] - nat[:, :, 1]).max() <= 1e-10 * qpeak
+    assert np.abs(ours[:, :, 0] - nat[:, :, 0]).max() <= 1e-12 * 400
