@@ -25,7 +25,7 @@ M = "hertz/material 1e7 0.3"
 
 #: name -> (pair lines after HEAD, words the one error line must contain)
 CASES = {
-    "normal_unknown": (f"pair_coeff * * hertz 1e7 0.3 {OK}", ["hertz/material E NU", "jkr E NU W"]),
+    "normal_unknown": (f"pair_coeff * * hertz 1e7 0.3 {OK}", ["'hertz/material E NU'", "'jkr E NU W'"]),
     "jkr_missing_W": ("pair_coeff * * jkr 1e7 0.3 damping LH c0 1 tangential none",
                       ["jkr W must be a finite number"]),
     "dmt_end_force": ("pair_coeff * * dmt 1e7 0.3 1 damping LH c0 1 end force tangential none",
