@@ -33,6 +33,7 @@ const char *const KEYWORDS =
     "wall_material normal damping end tangential rolling twisting heat temperature wiggle shear "
     "particle contacts";
 constexpr double BIG = 1.0e300;    // distance to an absent (NULL) plane
+const viscontact::Domain ANY_NUMBER{-1e300, 1e300, false};    // wiggle A, shear V
 
 }    // namespace
 
@@ -156,14 +157,23 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       if (!err.empty()) fail(err);
       has_particle = true;
       i += 3;
-    } else if (args[i] == "wiggle") {
-      if (motion == WIGGLE) fail("wiggle given twice");
-      if (motion == SHEAR) fail("wiggle and shear cannot be combined: choose one");
+    } else if (args[i] == "wiggle" || args[i] == "shear") {
+      const bool wiggle = args[i] == "wiggle";
+      if (motion == (wiggle ? WIGGLE : SHEAR)) fail(args[i] + " given twice");
+      if (motion != STILL) fail("wiggle and shear cannot be combined: choose one");
+      if (!wiggle) {
+        if (i + 2 >= args.size()) fail("shear needs DIM V (DIM x|y|z, V a velocity)");
+        axis = parse_dim("shear", args[i + 1]);
+        err = viscontact::parse_number("shear V", args[i + 2], ANY_NUMBER, vshear);
+        if (!err.empty()) fail(err);
+        motion = SHEAR;
+        i += 3;
+        continue;
+      }
       if (i + 3 >= args.size()) fail("wiggle needs DIM A PERIOD (DIM x|y|z, PERIOD > 0)");
       axis = parse_dim("wiggle", args[i + 1]);
       double period = 0.0;
-      err = viscontact::parse_number("wiggle A", args[i + 2],
-                                     viscontact::Domain{-1e300, 1e300, false}, amplitude);
+      err = viscontact::parse_number("wiggle A", args[i + 2], ANY_NUMBER, amplitude);
       if (err.empty())
         err = viscontact::parse_number("wiggle PERIOD", args[i + 3], viscontact::POSITIVE_DOMAIN,
                                        period);
@@ -171,16 +181,6 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       wfreq = 2.0 * M_PI / period;
       motion = WIGGLE;
       i += 4;
-    } else if (args[i] == "shear") {
-      if (motion == SHEAR) fail("shear given twice");
-      if (motion == WIGGLE) fail("wiggle and shear cannot be combined: choose one");
-      if (i + 2 >= args.size()) fail("shear needs DIM V (DIM x|y|z, V a velocity)");
-      axis = parse_dim("shear", args[i + 1]);
-      err = viscontact::parse_number("shear V", args[i + 2],
-                                     viscontact::Domain{-1e300, 1e300, false}, vshear);
-      if (!err.empty()) fail(err);
-      motion = SHEAR;
-      i += 3;
     } else if (args[i] == "temperature") {
       if (has_twall) fail("temperature given twice");
       if (i + 1 >= args.size())
