@@ -8,8 +8,12 @@
 #include "neighbor.h"
 #include "error.h"
 #include "force.h"
+#include "input.h"
+#include "variable.h"
 #include "memory.h"
 #include "pair_viscontact.h"
+#include "region.h"
+#include "comm.h"
 #include "update.h"
 #include "utils.h"
 #include "viscontact_keywords.h"
@@ -22,8 +26,14 @@ using namespace LAMMPS_NS;
 namespace {
 const char *const PREFIX = "fix viscontact/wall: ";
 const char *const SYNTAX =
-    "fix ID GROUP viscontact/wall (xplane|yplane|zplane LO HI | zcylinder R) "
-    "wall_material (E NU | rigid) damping LAW ... tangential (none | mindlin MU) [particle E NU]";
+    "fix ID GROUP viscontact/wall (xplane|yplane|zplane LO HI | zcylinder R | region ID) "
+    "wall_material (E NU | rigid) damping LAW ... tangential ... [wiggle DIM A PERIOD | "
+    "shear DIM V] [particle E NU] [contacts]";
+const char *const KEYWORDS =
+    "wall_material normal damping end tangential rolling twisting heat temperature wiggle shear "
+    "particle contacts";
+constexpr double BIG = 1.0e300;    // distance to an absent (NULL) plane
+const viscontact::Domain ANY_NUMBER{-1e300, 1e300, false};    // wiggle A, shear V
 
 }    // namespace
 
@@ -45,8 +55,17 @@ double FixWallViscontact::parse_coordinate(const std::string &key, const char *t
   return v;
 }
 
+int FixWallViscontact::parse_dim(const std::string &key, const std::string &text)
+{
+  if (text == "x") return 0;
+  if (text == "y") return 1;
+  if (text == "z") return 2;
+  fail(key + " DIM must be x, y or z, got " + viscontact::quoted(text));
+}
+
 FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), history(nullptr)
+    Fix(lmp, narg, arg), region(nullptr), tmax(1), store(nullptr), energy_on(false),
+    ediss(nullptr), eel(nullptr), heat_on(false)
 {
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
     fail("requires atom_style sphere (radius, rmass, omega, torque)");
@@ -59,7 +78,6 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
   lo = hi = cylradius = 0.0;
   if (style == "xplane" || style == "yplane" || style == "zplane") {
     wallstyle = style[0] - 'x';
-    nwall = 2;
     if (narg < 6) fail(style + " needs LO HI (a coordinate or NULL each)");
     lo = parse_coordinate(style + " LO", arg[4], has_lo);
     hi = parse_coordinate(style + " HI", arg[5], has_hi);
@@ -70,7 +88,6 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
     iarg = 6;
   } else if (style == "zcylinder") {
     wallstyle = ZCYLINDER;
-    nwall = 1;
     if (narg < 5) fail("zcylinder needs its radius R (> 0)");
     const std::string err =
         viscontact::parse_number("zcylinder R", arg[4], viscontact::POSITIVE_DOMAIN, cylradius);
@@ -78,22 +95,45 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
     if (domain->xperiodic || domain->yperiodic)
       fail("zcylinder cannot be used with periodic x or y");
     iarg = 5;
+  } else if (style == "region") {
+    wallstyle = REGION;
+    if (narg < 5) fail("region needs the ID of a region");
+    idregion = arg[4];
+    region = domain->get_region_by_id(idregion);
+    if (!region) fail("region " + viscontact::quoted(idregion) + " does not exist");
+    tmax = region->tmax;
+    if (tmax < 1) fail("region " + viscontact::quoted(idregion) + " has no surface to touch");
+    iarg = 5;
   } else {
     fail("unknown wall style " + viscontact::quoted(style) +
-         "; allowed: xplane yplane zplane (LO HI) or zcylinder R");
+         "; allowed: xplane yplane zplane (LO HI), zcylinder R or region REGION-ID");
   }
 
-  // materials and the law
+  // materials, motion and the law
   std::vector<std::string> args(arg + iarg, arg + narg);
   viscontact::LawKeywords kw;
+  viscontact::NormalParams normal;
+  bool seen_normal = false;
   bool seen_wall = false;
   has_particle = false;
   wall_rigid = false;
   wall_E = wall_nu = particle_E = particle_nu = 0.0;
+  motion = STILL;
+  axis = 0;
+  amplitude = wfreq = vshear = 0.0;
+  peratom_flag = 0;
+  has_twall = false;
+  twall = 0.0;
+  tvar = -1;
   size_t i = 0;
   while (i < args.size()) {
     std::string err;
     if (kw.take(args, i, err)) {
+      if (!err.empty()) fail(err);
+    } else if (args[i] == "normal") {
+      if (seen_normal) fail("normal given twice");
+      seen_normal = true;
+      err = viscontact::parse_wall_normal(args, i, normal);
       if (!err.empty()) fail(err);
     } else if (args[i] == "wall_material") {
       if (seen_wall) fail("wall_material given twice");
@@ -117,15 +157,74 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       if (!err.empty()) fail(err);
       has_particle = true;
       i += 3;
+    } else if (args[i] == "wiggle" || args[i] == "shear") {
+      const bool wiggle = args[i] == "wiggle";
+      if (motion == (wiggle ? WIGGLE : SHEAR)) fail(args[i] + " given twice");
+      if (motion != STILL) fail("wiggle and shear cannot be combined: choose one");
+      if (!wiggle) {
+        if (i + 2 >= args.size()) fail("shear needs DIM V (DIM x|y|z, V a velocity)");
+        axis = parse_dim("shear", args[i + 1]);
+        err = viscontact::parse_number("shear V", args[i + 2], ANY_NUMBER, vshear);
+        if (!err.empty()) fail(err);
+        motion = SHEAR;
+        i += 3;
+        continue;
+      }
+      if (i + 3 >= args.size()) fail("wiggle needs DIM A PERIOD (DIM x|y|z, PERIOD > 0)");
+      axis = parse_dim("wiggle", args[i + 1]);
+      double period = 0.0;
+      err = viscontact::parse_number("wiggle A", args[i + 2], ANY_NUMBER, amplitude);
+      if (err.empty())
+        err = viscontact::parse_number("wiggle PERIOD", args[i + 3], viscontact::POSITIVE_DOMAIN,
+                                       period);
+      if (!err.empty()) fail(err);
+      wfreq = 2.0 * M_PI / period;
+      motion = WIGGLE;
+      i += 4;
+    } else if (args[i] == "temperature") {
+      if (has_twall) fail("temperature given twice");
+      if (i + 1 >= args.size())
+        fail("temperature needs the wall temperature T or v_NAME (an equal-style variable)");
+      if (args[i + 1].compare(0, 2, "v_") == 0 && args[i + 1].size() > 2) {
+        tstr = args[i + 1].substr(2);
+      } else {
+        err = viscontact::parse_number("temperature T", args[i + 1],
+                                       viscontact::Domain{0.0, 1e300, false}, twall);
+        if (!err.empty()) fail(err);
+      }
+      has_twall = true;
+      i += 2;
+    } else if (args[i] == "contacts") {
+      if (peratom_flag) fail("contacts given twice");
+      peratom_flag = 1;
+      size_peratom_cols = 8;
+      peratom_freq = 1;
+      i += 1;
     } else {
-      fail("unknown keyword " + viscontact::quoted(args[i]) +
-           "; allowed: wall_material damping end tangential particle");
+      fail("unknown keyword " + viscontact::quoted(args[i]) + "; allowed: " + KEYWORDS);
     }
   }
   if (!seen_wall) fail("missing wall_material (E NU | rigid)");
-  const std::string err = kw.finish();
+  const std::string err = kw.finish(normal.kind);
   if (!err.empty()) fail(err);
-  law = kw.lp;
+  model = kw.model(normal);
+  heat_on = model.heat.kind != viscontact::HeatKind::None;
+  if (heat_on && !has_twall)
+    fail("heat area needs the wall temperature: temperature T or temperature v_NAME");
+  if (!heat_on && has_twall) fail("temperature is only used with heat area K");
+
+  if (motion != STILL) {
+    const char *what = motion == WIGGLE ? "wiggle" : "shear";
+    if (wallstyle == REGION)
+      fail(std::string(what) + " cannot be used with a region wall: move the region itself "
+                               "(region ... move/rotate)");
+    if (motion == WIGGLE && wallstyle == ZCYLINDER && axis != 2)
+      fail("zcylinder can only wiggle along z");
+    if (motion == SHEAR && wallstyle == axis)
+      fail(std::string("shear DIM must lie in the plane (") + style + " cannot shear along " +
+           "xyz"[axis] + ")");
+  }
+  time_origin = update->ntimestep;
 
   // global output: total force of the wall(s) on the group
   vector_flag = 1;
@@ -136,11 +235,18 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
   wallforce_all[0] = wallforce_all[1] = wallforce_all[2] = 0.0;
   wallforce_summed = true;
 
-  // per-atom history: migrates with atoms, goes to restart files
-  nvalues = nwall * HIST;
+  // per-atom history: migrates with atoms, goes to restart files; the global record keeps a
+  // region's motion and the wiggle origin
+  hsize = model.history_size();
+  slotsize = 1 + hsize;
+  nvalues = 1 + tmax * slotsize;
+  kept.assign(static_cast<size_t>(tmax) * slotsize, 0.0);
   restart_peratom = 1;
+  restart_global = 1;
   create_attribute = 1;
-  maxexchange = nvalues;
+  maxexchange = nvalues + viscontact::NDISS + (peratom_flag ? size_peratom_cols : 0);
+  array_atom = nullptr;
+  touches.reserve(tmax);
   grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
   atom->add_callback(Atom::RESTART);
@@ -151,7 +257,10 @@ FixWallViscontact::~FixWallViscontact()
 {
   atom->delete_callback(id, Atom::GROW);
   atom->delete_callback(id, Atom::RESTART);
-  memory->destroy(history);
+  memory->destroy(store);
+  memory->destroy(array_atom);
+  memory->destroy(ediss);
+  memory->destroy(eel);
 }
 
 int FixWallViscontact::setmask()
@@ -163,11 +272,30 @@ int FixWallViscontact::setmask()
 
 void FixWallViscontact::init()
 {
-  viscontact::refuse_heat(lmp, "fix viscontact/wall");
+  if (heat_on) {
+    if (!atom->temperature_flag || !atom->heatflow_flag)
+      fail("heat area needs per-atom temperature and heatflow (fix property/atom temperature "
+           "heatflow, integrated by fix heat/flow)");
+  } else {
+    viscontact::refuse_heat(lmp, "fix viscontact/wall");
+  }
   masses.init(lmp, "fix viscontact/wall");
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
     fail("requires atom_style sphere (radius, rmass, omega, torque)");
   if (utils::strmatch(update->integrate_style, "^respa")) fail("does not support run_style respa");
+  if (!tstr.empty()) {
+    tvar = input->variable->find(tstr.c_str());
+    if (tvar < 0) fail("temperature variable " + viscontact::quoted(tstr) + " does not exist");
+    if (!input->variable->equalstyle(tvar))
+      fail("temperature variable " + viscontact::quoted(tstr) + " must be equal-style");
+  }
+  if (wallstyle == REGION) {
+    region = domain->get_region_by_id(idregion);
+    if (!region) fail("region " + viscontact::quoted(idregion) + " does not exist");
+    if (region->tmax > tmax)
+      fail("region " + viscontact::quoted(idregion) + " was redefined with more faces than "
+           "when the fix was defined: define the fix again");
+  }
 
   // which types of the group are present (any rank): each needs a material
   const int ntypes = atom->ntypes;
@@ -179,7 +307,8 @@ void FixWallViscontact::init()
   auto *pair = dynamic_cast<PairViscontact *>(force->pair_match("viscontact", 1));
   // a rigid wall is an infinitely stiff material: its terms of 1/E* and 1/G* vanish
   const double Ewall = wall_rigid ? INFINITY : wall_E;
-  type_law.assign(ntypes + 1, law);
+  type_model.assign(ntypes + 1, model);
+  type_ok.assign(ntypes + 1, 0);
   for (int t = 1; t <= ntypes; t++) {
     double E = particle_E, nu = particle_nu;
     if (!has_particle && !(pair && pair->type_material(t, E, nu))) {
@@ -187,11 +316,12 @@ void FixWallViscontact::init()
         fail("no material for atom type " + std::to_string(t) +
              ": give particle E NU, or pair_style viscontact with pair_coeff " +
              std::to_string(t) + " " + std::to_string(t));
-      type_law[t].Estar = type_law[t].Gstar = 0.0;    // an error if it ever touches the wall
-      continue;
+      continue;    // an error if it ever touches the wall
     }
-    type_law[t].Estar = viscontact::mix_Estar(E, nu, Ewall, wall_nu);
-    type_law[t].Gstar = viscontact::mix_Gstar(E, nu, Ewall, wall_nu);
+    type_model[t].law.Estar = viscontact::mix_Estar(E, nu, Ewall, wall_nu);
+    type_model[t].law.Gstar = viscontact::mix_Gstar(E, nu, Ewall, wall_nu);
+    type_model[t].setup();
+    type_ok[t] = 1;
   }
   cache.assign(1 << CACHE_BITS, Coeffs());    // the materials may have changed
 }
@@ -205,7 +335,7 @@ const viscontact::ContactCoeffs &FixWallViscontact::coeffs(int type, double m, d
       static_cast<uint64_t>(type) * 0x165667B19E3779F9ULL;
   Coeffs &c = cache[(key * 0xD6E8FEB86659FD93ULL) >> (64 - CACHE_BITS)];
   if (c.type != type || c.m != m || c.r != r) {    // wall: m* = m, r = R* (10.8)
-    c.cc = viscontact::contact_coeffs(type_law[type], m, r);
+    c.cc = viscontact::contact_coeffs(type_model[type].law, m, r);
     if (!viscontact::coeffs_finite(c.cc))
       error->one(FLERR, std::string(PREFIX) + "a sphere of type " + std::to_string(type) +
                             " gets " + viscontact::describe_coeffs(c.cc) + "; the values are "
@@ -233,119 +363,254 @@ void FixWallViscontact::min_post_force(int vflag)
 }
 
 /* ----------------------------------------------------------------------
-   one sphere-wall contact: atom i, wall w, overlap delta > 0, n the unit normal from the wall
-   into the sphere.  At setup (update_history false) the history is read, never written.
+   the wall faces near sphere i: planes and cylinder as LAMMPS fix wall/gran (the nearer plane
+   of LO/HI; the cylinder's +-2R curvature), a region through Region::surface().  Planes and
+   the cylinder reach out to a jkr contact's pull-off distance (whether a face touches is the
+   contact model's decision, with the face's touch flag); a region reaches the sphere radius
+   only (as native: region jkr contacts end at zero overlap).
 ------------------------------------------------------------------------- */
 
-void FixWallViscontact::contact(int i, int w, double delta, const double n[3], double rwall,
-                                bool update_history, double t_now)
+void FixWallViscontact::find_touches(int i, double wlo, double whi, const double vplane[3])
 {
-  double *stored = &history[i][w * HIST];    // touch, xi[3], t0
-  double h[HIST];
-  for (int m = 0; m < HIST; m++) h[m] = stored[m];
+  touches.clear();
+  const double *x = atom->x[i];
+  const double rad = atom->radius[i];
+  const viscontact::ContactModel &m = type_model[atom->type[i]];
+  Touch c;
+  c.rwall = 0.0;
+  c.n[0] = c.n[1] = c.n[2] = 0.0;
+  c.vwall[0] = vplane[0];
+  c.vwall[1] = vplane[1];
+  c.vwall[2] = vplane[2];
+  if (wallstyle <= ZPLANE) {
+    const int d = wallstyle;
+    const double del1 = has_lo ? x[d] - wlo : BIG;
+    const double del2 = has_hi ? whi - x[d] : BIG;
+    // signed distance from the nearer plane (a sphere pushed through it has the normal
+    // reversed, as in LAMMPS)
+    const double dist = del1 < del2 ? del1 : -del2;
+    c.iwall = del1 < del2 ? 0 : 1;
+    c.r = std::fabs(dist);
+    if (c.r >= rad + m.pulloff_distance(rad) || c.r == 0.0) return;
+    c.n[d] = dist > 0.0 ? 1.0 : -1.0;
+    touches.push_back(c);
+  } else if (wallstyle == ZCYLINDER) {
+    const double delxy = std::sqrt(x[0] * x[0] + x[1] * x[1]);
+    const double delr = cylradius - delxy;
+    c.iwall = 0;
+    c.r = std::fabs(delr);
+    // as native: a sphere inside touches a concave wall of curvature radius -2R, one outside
+    // the convex outer face, +2R
+    c.rwall = delxy < cylradius ? -2.0 * cylradius : 2.0 * cylradius;
+    const double reach = rad + m.pulloff_distance(effective_radius(rad, c.rwall));
+    if (delr > rad || c.r >= reach || c.r == 0.0 || delxy == 0.0) return;
+    // n from the surface into the sphere: inwards for a sphere inside, outwards outside
+    const double s = delr > 0.0 ? -1.0 : 1.0;
+    c.n[0] = s * x[0] / delxy;
+    c.n[1] = s * x[1] / delxy;
+    if (motion == SHEAR && axis != 2) {    // a turning cylinder, surface speed V
+      c.vwall[0] = vshear * x[1] / delxy;
+      c.vwall[1] = -vshear * x[0] / delxy;
+      c.vwall[2] = 0.0;
+    }
+    touches.push_back(c);
+  } else {
+    const int nc = region->surface(x[0], x[1], x[2], rad);
+    if (nc > tmax)
+      error->one(FLERR, std::string(PREFIX) + "atom " + std::to_string(atom->tag[i]) +
+                            " touches " + std::to_string(nc) + " faces of region " + idregion +
+                            ", more than the " + std::to_string(tmax) + " it allows");
+    const bool moving = region->dynamic_check();
+    for (int ic = 0; ic < nc; ic++) {
+      const auto &rc = region->contact[ic];
+      if (!(rc.r > 0.0) || rc.r >= rad) continue;
+      c.iwall = rc.iwall;
+      c.r = rc.r;
+      c.n[0] = rc.delx / rc.r;
+      c.n[1] = rc.dely / rc.r;
+      c.n[2] = rc.delz / rc.r;
+      c.rwall = rc.radius;
+      if (moving) region->velocity_contact(c.vwall, atom->x[i], ic);
+      else c.vwall[0] = c.vwall[1] = c.vwall[2] = 0.0;
+      touches.push_back(c);
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   one sphere-wall contact through the one contact step (ContactModel::evaluate): atom i, the
+   contact's history h (updated in place), the face c.  Adds force, torque, heat flow and
+   energy to atom i.
+------------------------------------------------------------------------- */
+
+void FixWallViscontact::contact(int i, double *h, const Touch &c, bool update_history,
+                                double t_now)
+{
+  const int type = atom->type[i];
+  const viscontact::ContactModel &m = type_model[type];
   const double r = atom->radius[i];
-  // R* = r rwall/(r + rwall) with the wall's curvature radius rwall (0: a plane, R* = r), as
-  // native fix wall/gran (SPEC 10.8); it feeds k_Hertz, a, c0/tau and the Mindlin stiffness
-  const double reff = rwall == 0.0 ? r : r * rwall / (r + rwall);
-  const double *v = atom->v[i];
-  const double *om = atom->omega[i];
-  const double dt = update->dt;
-  const viscontact::LawParams &lp = type_law[atom->type[i]];
-  if (lp.Estar == 0.0)    // a type absent from the group at init (e.g. inserted since)
-    error->one(FLERR, std::string(PREFIX) + "no material for atom type " +
-                          std::to_string(atom->type[i]) +
-                          ": give particle E NU, or pair_coeff I I of pair viscontact");
-
-  double wr[3] = {r * om[0], r * om[1], r * om[2]};
-  double vtr[3];
-  const double ddelta = -viscontact::relative_tangential_velocity(v, wr, n, vtr);
-
-  if (h[0] == 0.0) {    // a new contact: zero spring, the clock starts now
-    h[0] = 1.0;
-    h[1] = h[2] = h[3] = 0.0;
-    h[4] = viscontact::contact_start_time(t_now, dt, delta, ddelta);
-  }
-  const viscontact::ContactCoeffs &cc = coeffs(atom->type[i], masses.mass(i, atom->rmass), reff);
-  const double fn = viscontact::clamp_normal(
-      viscontact::normal_force(delta, ddelta, viscontact::contact_clock(t_now, h[4]), cc.k, cc.c0,
-                               cc.tau, lp.p),
-      lp.clamp);
-  if (!std::isfinite(fn))
-    error->one(FLERR, std::string(PREFIX) + "the normal force on atom " +
-                          std::to_string(atom->tag[i]) + " is not finite (overlap " +
-                          viscontact::format_number(delta) + "); check the time step and the values");
-
-  double ft[3] = {0.0, 0.0, 0.0};
-  if (lp.friction) {
-    const double kt = viscontact::mindlin_stiffness(lp.Gstar, reff, delta);
-    viscontact::mindlin_tangential(&h[1], n, vtr, dt, kt, lp.mu * std::fabs(fn), ft,
-                                   update_history);
-    double tq[3];
-    viscontact::tangential_torque(n, ft, r, tq);
-    double *torque = atom->torque[i];
-    torque[0] += tq[0];
-    torque[1] += tq[1];
-    torque[2] += tq[2];
-  }
-  // a run's setup computes forces from the history but never changes it (as pair viscontact
-  // and pair granular): a contact new at setup starts at the first step
-  if (update_history)
-    for (int m = 0; m < HIST; m++) stored[m] = h[m];
-  double *f = atom->f[i];
+  viscontact::ContactGeometry g;
   for (int d = 0; d < 3; d++) {
-    const double fd = fn * n[d] + ft[d];
-    f[d] += fd;
-    wallforce[d] += fd;
+    g.n[d] = c.n[d];
+    g.vr[d] = atom->v[i][d] - c.vwall[d];
+    g.omega_i[d] = atom->omega[i][d];
+    g.omega_j[d] = 0.0;
+  }
+  g.delta = r - c.r;
+  g.r_i = r;
+  g.r_j = 0.0;
+  // R* = r rw/(r + rw) with the wall's signed curvature radius rw (0: flat, R* = r), as
+  // native fix wall/gran(/region); m* = m (or the rigid body's mass)
+  g.reff = effective_radius(r, c.rwall);
+  g.meff = masses.mass(i, atom->rmass);
+  g.dt = update->dt;
+  g.t_now = t_now;
+  if (heat_on) {
+    g.T_i = atom->temperature[i];
+    g.T_j = twall;
+  }
+  g.wall = true;
+  g.coeffs = &coeffs(type, g.meff, g.reff);
+
+  viscontact::ContactResult res;
+  m.evaluate(g, h, update_history, res);
+  if (!std::isfinite(res.fn) || !std::isfinite(res.force[0]) || !std::isfinite(res.force[1]) ||
+      !std::isfinite(res.force[2]))
+    error->one(FLERR, std::string(PREFIX) + "the force on atom " + std::to_string(atom->tag[i]) +
+                          " is not finite (overlap " + viscontact::format_number(g.delta) +
+                          "); check the time step and the values");
+
+  double *f = atom->f[i];
+  double *torque = atom->torque[i];
+  for (int d = 0; d < 3; d++) {
+    f[d] += res.force[d];
+    torque[d] += res.torque_i[d];
+    wallforce[d] += res.force[d];
+  }
+  if (heat_on) atom->heatflow[i] += res.heat;
+  if (energy_on) {    // a wall contact counts fully on its atom
+    for (int k = 0; k < viscontact::NDISS; k++) ediss[i][k] += res.dissipated[k];
+    for (int k = 0; k < viscontact::NELASTIC; k++) eel[i][k] += res.elastic[k];
+  }
+  if (peratom_flag) {    // native's 8 columns; the last contact of the atom wins
+    double *a = array_atom[i];
+    a[0] = 1.0;
+    for (int d = 0; d < 3; d++) {
+      a[1 + d] = res.force[d];
+      a[4 + d] = atom->x[i][d] - c.r * c.n[d];
+    }
+    a[7] = r;
   }
 }
 
 void FixWallViscontact::post_force(int /*vflag*/)
 {
+  // history advances only on regular steps (not in a run's setup), as LAMMPS granular
   const bool update_history = !update->setupflag;
   const double t_now = viscontact::time_now(update);
-  double **x = atom->x;
-  const double *radius = atom->radius;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
 
   wallforce[0] = wallforce[1] = wallforce[2] = 0.0;
   wallforce_summed = false;
   if (neighbor->ago == 0) masses.refresh(atom);    // rigid-body masses of the local atoms
+  if (heat_on && !tstr.empty()) twall = input->variable->compute_equal(tvar);
 
+  // the wall's position and velocity this step (planes, cylinder)
+  double wlo = lo, whi = hi;
+  double vplane[3] = {0.0, 0.0, 0.0};
+  if (motion == WIGGLE) {
+    const double arg = wfreq * static_cast<double>(update->ntimestep - time_origin) * update->dt;
+    if (wallstyle == axis) {
+      wlo = lo + amplitude - amplitude * std::cos(arg);
+      whi = hi + amplitude - amplitude * std::cos(arg);
+    }
+    vplane[axis] = amplitude * wfreq * std::sin(arg);
+  } else if (motion == SHEAR) {
+    vplane[axis] = vshear;
+  }
+  // a region's motion: its transform and its velocity over the last step (once per step for
+  // all fixes using the region)
+  if (region && region->dynamic_check()) {
+    region->prematch();
+    region->set_velocity();
+  }
+  if (peratom_flag)
+    for (int i = 0; i < nlocal; i++)
+      for (int k = 0; k < size_peratom_cols; k++) array_atom[i][k] = 0.0;
+  if (energy_on)
+    for (int i = 0; i < nlocal; i++)
+      for (int k = 0; k < viscontact::NELASTIC; k++) eel[i][k] = 0.0;
+
+  const int touch = model.history_slots().touch;
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
-    for (int w = 0; w < nwall; w++) {
-      double n[3] = {0.0, 0.0, 0.0};
-      double delta = -1.0;
-      double rwall = 0.0;    // a plane
-      if (wallstyle == ZCYLINDER) {
-        const double rr = std::sqrt(x[i][0] * x[i][0] + x[i][1] * x[i][1]);
-        if (rr > 0.0) {
-          // as native fix wall/gran: a sphere inside touches a concave wall of curvature
-          // radius -2R, one outside the convex outer face, +2R (the overlap and normal of
-          // that face)
-          const bool inside = rr <= cylradius;
-          const double sgn = inside ? -1.0 : 1.0;
-          delta = radius[i] - std::fabs(cylradius - rr);
-          n[0] = sgn * x[i][0] / rr;
-          n[1] = sgn * x[i][1] / rr;
-          rwall = 2.0 * sgn * cylradius;
+    if (region && !region->match(atom->x[i][0], atom->x[i][1], atom->x[i][2])) {
+      // outside: no contact, and no stale history to come back with the atom
+      if (update_history) end_contacts(i, -1);
+      continue;
+    }
+    if (!type_ok[atom->type[i]])    // a type without material (e.g. inserted since init)
+      error->one(FLERR, std::string(PREFIX) + "no material for atom type " +
+                            std::to_string(atom->type[i]) +
+                            ": give particle E NU, or pair_coeff I I of pair viscontact");
+    find_touches(i, wlo, whi, vplane);
+    const viscontact::ContactModel &m = type_model[atom->type[i]];
+    const int nold = static_cast<int>(store[i][0]);
+    const double rad = atom->radius[i];
+
+    // each face's history by its wall index
+    int nkept = 0;
+    for (const Touch &c : touches) {
+      int k = 0;
+      while (k < nold && static_cast<int>(slot(i, k)[0]) != c.iwall) k++;
+      double *stored = k < nold ? slot(i, k) + 1 : nullptr;
+      if (!m.touching(c.r * c.r, rad, effective_radius(rad, c.rwall),
+                      stored && stored[touch] != 0.0))
+        continue;
+      if (!update_history) {
+        // a run's setup: a stored contact is evaluated in place (native: the Coulomb cap may
+        // rewrite it), a new one on a scratch copy; nothing is added or dropped
+        double *h = stored;
+        if (!h) {
+          h = &kept[0];
+          for (int q = 0; q < hsize; q++) h[q] = 0.0;
         }
-      } else if (w == 0 && has_lo) {
-        delta = radius[i] - (x[i][wallstyle] - lo);
-        n[wallstyle] = 1.0;
-      } else if (w == 1 && has_hi) {
-        delta = radius[i] - (hi - x[i][wallstyle]);
-        n[wallstyle] = -1.0;
+        contact(i, h, c, false, t_now);
+        continue;
       }
-      if (delta > 0.0) {
-        contact(i, w, delta, n, rwall, update_history, t_now);
-      } else if (update_history) {
-        double *h = &history[i][w * HIST];    // contact open: forget it
-        for (int m = 0; m < HIST; m++) h[m] = 0.0;
-      }
+      double *h = &kept[static_cast<size_t>(nkept) * slotsize];
+      h[0] = c.iwall;
+      for (int q = 0; q < hsize; q++) h[1 + q] = stored ? stored[q] : 0.0;
+      contact(i, h + 1, c, true, t_now);
+      nkept++;
+    }
+    if (!update_history) continue;
+    // faces no longer touching: their contacts end (their elastic energy is released into
+    // the dissipated columns); a face found again later starts from zero
+    end_contacts(i, nkept);
+    store[i][0] = nkept;
+    for (int q = 0; q < nkept * slotsize; q++) store[i][1 + q] = kept[q];
+  }
+}
+
+/* The stored contacts of atom i that are not among the first nkept of `kept` (all of them for
+   nkept < 0) end now: with the energy tally on, each releases its last elastic energy into the
+   dissipated columns (as pair viscontact does).  Clears the store for nkept < 0. */
+void FixWallViscontact::end_contacts(int i, int nkept)
+{
+  const int nold = static_cast<int>(store[i][0]);
+  if (energy_on) {
+    const viscontact::ContactModel &m = type_model[atom->type[i]];
+    for (int k = 0; k < nold; k++) {
+      const double *s = slot(i, k);
+      bool found = false;
+      for (int q = 0; q < nkept && !found; q++)
+        found = static_cast<int>(kept[static_cast<size_t>(q) * slotsize]) == static_cast<int>(s[0]);
+      if (!found) m.release(s + 1, ediss[i]);
     }
   }
+  if (nkept < 0) store[i][0] = 0.0;
 }
 
 double FixWallViscontact::compute_vector(int k)
@@ -357,41 +622,99 @@ double FixWallViscontact::compute_vector(int k)
   return wallforce_all[k];
 }
 
-/* ---- per-atom history: grow, copy, migrate, restart ---------------------------------------- */
+/* ---- global restart record: the wiggle origin and a region's motion state --------------- */
+
+void FixWallViscontact::write_restart(FILE *fp)
+{
+  if (comm->me != 0) return;
+  int len = 0;
+  if (region) region->length_restart_string(len);
+  const int size = static_cast<int>(sizeof(bigint)) + len;
+  fwrite(&size, sizeof(int), 1, fp);
+  fwrite(&time_origin, sizeof(bigint), 1, fp);
+  if (region) region->write_restart(fp);
+}
+
+void FixWallViscontact::restart(char *buf)
+{
+  std::memcpy(&time_origin, buf, sizeof(bigint));
+  if (region) {
+    int n = static_cast<int>(sizeof(bigint));
+    if (!region->restart(buf, n)) {
+      if (comm->me == 0)
+        error->warning(FLERR, std::string(PREFIX) + "region " + idregion +
+                                  " differs from the restart file's: its motion restarts");
+      region->reset_vel();
+    }
+  }
+}
+
+/* ---- per-atom history and energy: grow, copy, migrate, restart ----------------------------
+
+   Per atom: the contacts' store (nvalues), the cumulative dissipated energy (NDISS; migrates
+   and goes to restart files), the elastic energy (NELASTIC; recomputed at every force
+   computation) and, with `contacts`, native's 8 columns. */
+
+namespace {
+constexpr int NDISS = viscontact::NDISS;
+constexpr int NELASTIC = viscontact::NELASTIC;
+}    // namespace
 
 void FixWallViscontact::grow_arrays(int nmax)
 {
-  memory->grow(history, nmax, nvalues, "viscontact/wall:history");
+  memory->grow(store, nmax, nvalues, "viscontact/wall:history");
+  memory->grow(ediss, nmax, NDISS, "viscontact/wall:dissipated");
+  memory->grow(eel, nmax, NELASTIC, "viscontact/wall:elastic");
+  if (peratom_flag) memory->grow(array_atom, nmax, size_peratom_cols, "viscontact/wall:contacts");
 }
 
 void FixWallViscontact::copy_arrays(int i, int j, int /*delflag*/)
 {
-  for (int m = 0; m < nvalues; m++) history[j][m] = history[i][m];
+  for (int m = 0; m < nvalues; m++) store[j][m] = store[i][m];
+  for (int m = 0; m < NDISS; m++) ediss[j][m] = ediss[i][m];
+  for (int m = 0; m < NELASTIC; m++) eel[j][m] = eel[i][m];
+  if (peratom_flag)
+    for (int m = 0; m < size_peratom_cols; m++) array_atom[j][m] = array_atom[i][m];
 }
 
 void FixWallViscontact::set_arrays(int i)
 {
-  for (int m = 0; m < nvalues; m++) history[i][m] = 0.0;
+  for (int m = 0; m < nvalues; m++) store[i][m] = 0.0;
+  for (int m = 0; m < NDISS; m++) ediss[i][m] = 0.0;
+  for (int m = 0; m < NELASTIC; m++) eel[i][m] = 0.0;
+  if (peratom_flag)
+    for (int m = 0; m < size_peratom_cols; m++) array_atom[i][m] = 0.0;
 }
 
 int FixWallViscontact::pack_exchange(int i, double *buf)
 {
-  for (int m = 0; m < nvalues; m++) buf[m] = history[i][m];
-  return nvalues;
+  int n = 0;
+  for (int m = 0; m < nvalues; m++) buf[n++] = store[i][m];
+  for (int m = 0; m < NDISS; m++) buf[n++] = ediss[i][m];
+  if (peratom_flag)
+    for (int m = 0; m < size_peratom_cols; m++) buf[n++] = array_atom[i][m];
+  return n;
 }
 
 int FixWallViscontact::unpack_exchange(int nlocal, double *buf)
 {
-  for (int m = 0; m < nvalues; m++) history[nlocal][m] = buf[m];
-  return nvalues;
+  int n = 0;
+  for (int m = 0; m < nvalues; m++) store[nlocal][m] = buf[n++];
+  for (int m = 0; m < NDISS; m++) ediss[nlocal][m] = buf[n++];
+  for (int m = 0; m < NELASTIC; m++) eel[nlocal][m] = 0.0;
+  if (peratom_flag)
+    for (int m = 0; m < size_peratom_cols; m++) array_atom[nlocal][m] = buf[n++];
+  return n;
 }
 
 int FixWallViscontact::pack_restart(int i, double *buf)
 {
   // first value: how many values this fix wrote for the atom, itself included
-  buf[0] = nvalues + 1;
-  for (int m = 0; m < nvalues; m++) buf[m + 1] = history[i][m];
-  return nvalues + 1;
+  int n = 1;
+  for (int m = 0; m < nvalues; m++) buf[n++] = store[i][m];
+  for (int m = 0; m < NDISS; m++) buf[n++] = ediss[i][m];
+  buf[0] = n;
+  return n;
 }
 
 void FixWallViscontact::unpack_restart(int nlocal, int nth)
@@ -399,25 +722,28 @@ void FixWallViscontact::unpack_restart(int nlocal, int nth)
   double **extra = atom->extra;
   int m = 0;    // skip the values of the fixes before this one
   for (int k = 0; k < nth; k++) m += static_cast<int>(extra[nlocal][m]);
-  if (static_cast<int>(extra[nlocal][m]) != nvalues + 1)
+  if (static_cast<int>(extra[nlocal][m]) != size_restart(nlocal))
     error->one(FLERR, std::string(PREFIX) +
-                          "restart file holds a different wall history size (was the wall style "
-                          "changed between write_restart and read_restart?)");
+                          "restart file holds a different wall history size (was the wall style, "
+                          "region or contact model changed between write_restart and "
+                          "read_restart?)");
   m++;
-  for (int k = 0; k < nvalues; k++) history[nlocal][k] = extra[nlocal][m++];
+  for (int k = 0; k < nvalues; k++) store[nlocal][k] = extra[nlocal][m++];
+  for (int k = 0; k < NDISS; k++) ediss[nlocal][k] = extra[nlocal][m++];
 }
 
 int FixWallViscontact::size_restart(int /*nlocal*/)
 {
-  return nvalues + 1;
+  return 1 + nvalues + NDISS;
 }
 
 int FixWallViscontact::maxsize_restart()
 {
-  return nvalues + 1;
+  return 1 + nvalues + NDISS;
 }
 
 double FixWallViscontact::memory_usage()
 {
-  return static_cast<double>(atom->nmax) * nvalues * sizeof(double);
+  return static_cast<double>(atom->nmax) *
+      (nvalues + NDISS + NELASTIC + (peratom_flag ? size_peratom_cols : 0)) * sizeof(double);
 }
