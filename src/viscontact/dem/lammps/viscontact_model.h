@@ -605,7 +605,7 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
   res.dissipated[DISS_ROLLING] = drl;
   res.dissipated[DISS_TWISTING] = dtw;
   // JKR snap-in: the elastic energy jumps from 0 (apart) to U < 0
-  if (fresh && normal.kind == NormalKind::JKR && E_on) res.dissipated[DISS_ADHESION] = -U;
+  res.dissipated[DISS_ADHESION] = (fresh && normal.kind == NormalKind::JKR) ? -U : 0.0;
   double sum = 0.0;
   for (int k = 0; k < NDISS; k++) sum += res.dissipated[k];
   res.power = dt > 0.0 ? sum / dt : 0.0;
