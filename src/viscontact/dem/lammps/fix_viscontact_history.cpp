@@ -25,7 +25,7 @@ FixViscontactHistory::FixViscontactHistory(LAMMPS *lmp, int narg, char **arg) :
 {
   if (narg != 4) error->all(FLERR, "fix VISCONTACT_HISTORY is internal to pair viscontact");
   dnum = utils::inumeric(FLERR, arg[3], false, lmp);
-  if (dnum < 3 || dnum > 64) error->all(FLERR, "fix VISCONTACT_HISTORY: bad history size");
+  if (dnum < 1 || dnum > 64) error->all(FLERR, "fix VISCONTACT_HISTORY: bad history size");
   restart_peratom = 1;
   restart_global = 1;
   create_attribute = 1;

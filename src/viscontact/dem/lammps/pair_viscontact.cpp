@@ -192,7 +192,11 @@ void PairViscontact::init_style()
   // heat area: all type pairs or none (as native), per-atom temperature and heatflow
   const int n = atom->ntypes;
   int nheat = 0, nset = 0;
-  layout_xi = layout_aprev = layout_roll = layout_twist = false;
+  layout_xi = layout_aprev = layout_roll = layout_twist = layout_t0 = false;
+  // energy bookkeeping (history slots, per-atom tallies) only with a compute viscontact/energy
+  energy_on = !modify->get_compute_by_style("^viscontact/energy$").empty();
+  for (int i = 1; i <= n; i++)
+    for (int j = 1; j <= n; j++) models[i][j].track_energy = energy_on;
   beyond_contact = 0;
   for (int i = 1; i <= n; i++) {
     for (int j = i; j <= n; j++) {
@@ -202,6 +206,7 @@ void PairViscontact::init_style()
       if (m.heat.kind != vc::HeatKind::None) nheat++;
       layout_xi = layout_xi || m.has_tangential_history();
       layout_aprev = layout_aprev || m.needs_aprev();
+      layout_t0 = layout_t0 || vc::LAW_TABLE[static_cast<int>(m.law.law)].needs_beta;
       layout_roll = layout_roll || m.rolling.kind != vc::RollingKind::None;
       layout_twist = layout_twist || m.twisting.kind != vc::TwistingKind::None;
       if (m.beyond_contact()) beyond_contact = 1;
@@ -216,10 +221,11 @@ void PairViscontact::init_style()
   if (!heat_on) viscontact::refuse_heat(lmp, "pair viscontact");
   for (int i = 1; i <= n; i++)
     for (int j = 1; j <= n; j++)
-      if (setflag[i][j]) models[i][j].setup(layout_xi, layout_aprev, layout_roll, layout_twist);
+      if (setflag[i][j]) models[i][j].setup(layout_xi, layout_aprev, layout_roll, layout_twist, layout_t0);
   {
     vc::ContactModel probe;
-    probe.setup(layout_xi, layout_aprev, layout_roll, layout_twist);
+    probe.track_energy = energy_on;
+    probe.setup(layout_xi, layout_aprev, layout_roll, layout_twist, layout_t0);
     dnum = probe.history_size();
     hsign.assign(dnum, 1.0);
     probe.history_signs(hsign.data());
@@ -240,8 +246,9 @@ void PairViscontact::init_style()
   // every contact keeps a history (touch flag, start time, dissipated energy, springs)
   need_history = 1;
   if (fix_history && fix_history->history_size() != dnum)
-    fail("pair viscontact: the pair_coeff lines changed the contact history layout (a rolling, "
-         "twisting or tangential spring added or removed); give pair_style viscontact again");
+    fail("pair viscontact: the contact history layout changed since the last run (a rolling, "
+         "twisting or tangential spring added or removed, or a compute viscontact/energy defined "
+         "after the first run); give pair_style viscontact again, or define the compute first");
   if (need_history && fix_history == nullptr) {
     // one fixed ID, so that read_restart re-attaches the per-atom history whatever the
     // instance count of the run that wrote it
@@ -352,7 +359,7 @@ double PairViscontact::init_one(int i, int j)
     m.twisting.gamma = geo(a.twisting.gamma, b.twisting.gamma);
     m.twisting.mu = geo(a.twisting.mu, b.twisting.mu);
     m.heat.k = geo(a.heat.k, b.heat.k);
-    m.setup(layout_xi, layout_aprev, layout_roll, layout_twist);
+    m.setup(layout_xi, layout_aprev, layout_roll, layout_twist, layout_t0);
     models[i][j] = m;
     cut_user[i][j] = MAX(cut_user[i][i], cut_user[j][j]);
   }
@@ -381,7 +388,7 @@ double PairViscontact::init_one(int i, int j)
 }
 
 /* The geometry and kinematics of the pair (i, j), dx = x_i - x_j, for the contact step. */
-void PairViscontact::pair_geometry(int i, int j, const double dx[3], double rsq, double meff,
+VISCONTACT_ALWAYS_INLINE void PairViscontact::pair_geometry(int i, int j, const double dx[3], double rsq, double meff,
                                    vc::ContactGeometry &g) const
 {
   double **v = atom->v, **omega = atom->omega;
@@ -489,8 +496,9 @@ void PairViscontact::compute(int eflag, int vflag)
       const double radsum = radi + radj;
       double *h = &hv[(size_t) dnum * jj];
       const vc::ContactModel &m = models[itype][jtype];
+      // apart: r >= r_i + r_j, unless a jkr contact lives on to its pull-off distance
       if (rsq >= radsum * radsum &&
-          !m.touching(rsq, radsum, radi * radj / radsum, fl[jj] != 0)) {
+          !(beyond_contact && fl[jj] && m.touching(rsq, radsum, radi * radj / radsum, true))) {
         // apart (jkr: beyond pull-off): the contact (if any) has ended; a new one starts afresh
         if (history_update && fl[jj]) {
           if (tally) tally->add_release(i, j, nlocal, newton_pair, m, h);
@@ -573,7 +581,8 @@ double PairViscontact::single(int i, int j, int itype, int jtype, double rsq, do
   vc::ContactGeometry g;
   vc::ContactResult res;
   pair_geometry(i, j, dx, rsq, masses.pair_meff(i, j, atom->rmass, atom->mask), g);
-  const double stored = hist[m.history_slots().energy];
+  const int es = m.history_slots().energy;
+  const double stored = es >= 0 ? hist[es] : 0.0;
   m.evaluate(g, hist, false, res);
   fforce = res.fne / std::sqrt(rsq);
   for (int k = 0; k < 3; k++) {
@@ -698,7 +707,7 @@ void PairViscontact::read_restart_settings(FILE *fp)
 
 PairViscontact::EnergyTally *PairViscontact::energy_begin()
 {
-  if (!energy_requested) return nullptr;
+  if (!energy_requested || !energy_on) return nullptr;
   const int nall = atom->nlocal + atom->nghost;
   tally_.diss.assign((size_t) nall * vc::NDISS, 0.0);
   tally_.elastic.assign((size_t) nall * vc::NELASTIC, 0.0);

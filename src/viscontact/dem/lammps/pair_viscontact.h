@@ -115,7 +115,9 @@ class PairViscontact : public Pair {
   void parse_coeff(int narg, char **arg, viscontact::ContactModel &m, double &E, double &nu,
                    double &cut);
   bool heat_on;    // the type pairs conduct heat (heat area)
-  bool layout_xi = false, layout_aprev = false, layout_roll = false, layout_twist = false;
+  bool layout_xi = false, layout_aprev = false, layout_roll = false, layout_twist = false,
+       layout_t0 = false;
+  bool energy_on = false;    // a compute viscontact/energy existed at init: energies are tallied
   [[noreturn]] void fail(const std::string &msg);
 };
 

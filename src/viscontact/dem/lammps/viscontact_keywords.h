@@ -277,8 +277,8 @@ class LawKeywords {
           i += 5;
         }
       } else {
-        return fail(err, "tangential must be followed by one of none, linear_nohistory XGAMMA MU, "
-                         "linear_history KT XGAMMA MU, mindlin KT|NULL XGAMMA MU, mindlin MU, "
+        return fail(err, "tangential must be followed by none or mindlin MU, or linear_nohistory "
+                         "XGAMMA MU, linear_history KT XGAMMA MU, mindlin KT|NULL XGAMMA MU, "
                          "mindlin_rescale, mindlin/force, mindlin_rescale/force KT|NULL XGAMMA MU; "
                          "got " + quoted(model));
       }
