@@ -29,7 +29,8 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
     "plugin": ("PluginError", "plugin_path", "plugin_load_line", "new_lammps", "lmp_executable",
                "mpirun_executable"),
     "coeff": ("DemLaw", "CoeffLines", "contact_law", "coeff_lines", "ParticleType", "Wall",
-              "CoeffSet", "coeff_set", "mixed_material", "UNIT_STYLES"),
+              "CoeffSet", "coeff_set", "mixed_material", "UNIT_STYLES", "Normal", "Tangential",
+              "Rolling", "Twisting", "SubModels", "contact_words"),
     "run": ("RunResult", "LammpsError", "Interrupted", "run_input"),
     "io": ("Frame", "read_log", "read_log_runs", "read_dump"),
 }
@@ -37,8 +38,9 @@ __all__ = [name for names in _EXPORTS.values() for name in names]
 
 if TYPE_CHECKING:
     from .coeff import (
-        UNIT_STYLES, CoeffLines, CoeffSet, DemLaw, ParticleType, Wall, coeff_lines, coeff_set,
-        contact_law, mixed_material,
+        UNIT_STYLES, CoeffLines, CoeffSet, DemLaw, Normal, ParticleType, Rolling, SubModels,
+        Tangential, Twisting, Wall, coeff_lines, coeff_set, contact_law, contact_words,
+        mixed_material,
     )
     from .io import Frame, read_dump, read_log, read_log_runs
     from .plugin import (
