@@ -33,6 +33,7 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
               "Rolling", "Twisting", "SubModels", "contact_words"),
     "run": ("RunResult", "LammpsError", "Interrupted", "run_input"),
     "io": ("Frame", "read_log", "read_log_runs", "read_dump"),
+    "energy": ("ENERGY_COLUMNS", "energy_compute", "energy_thermo", "read_energy"),
 }
 __all__ = [name for names in _EXPORTS.values() for name in names]
 
@@ -42,6 +43,7 @@ if TYPE_CHECKING:
         Tangential, Twisting, Wall, coeff_lines, coeff_set, contact_law, contact_words,
         mixed_material,
     )
+    from .energy import ENERGY_COLUMNS, energy_compute, energy_thermo, read_energy
     from .io import Frame, read_dump, read_log, read_log_runs
     from .plugin import (
         PluginError, lmp_executable, mpirun_executable, new_lammps, plugin_load_line, plugin_path,
