@@ -439,6 +439,7 @@ class Tangential:
         if not isinstance(spec, Sequence) or isinstance(spec, bytes) or not spec:
             raise ValueError(f"tangential must be a model name or (model, numbers...); got {spec!r}")
         model, *nums = spec
+        domain.check_choice("tangential model", model, TANGENTIAL_MODELS)
         nums = [None if (isinstance(x, str) and x.upper() == "NULL") else x for x in nums]
         want = {"none": 0, "linear_nohistory": 2, "linear_history": 3}.get(model, 3)
         if model == "mindlin" and len(nums) == 1:
