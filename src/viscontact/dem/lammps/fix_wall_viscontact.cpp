@@ -10,6 +10,8 @@
 #include "force.h"
 #include "memory.h"
 #include "pair_viscontact.h"
+#include "region.h"
+#include "comm.h"
 #include "update.h"
 #include "utils.h"
 #include "viscontact_keywords.h"
@@ -22,8 +24,11 @@ using namespace LAMMPS_NS;
 namespace {
 const char *const PREFIX = "fix viscontact/wall: ";
 const char *const SYNTAX =
-    "fix ID GROUP viscontact/wall (xplane|yplane|zplane LO HI | zcylinder R) "
-    "wall_material (E NU | rigid) damping LAW ... tangential (none | mindlin MU) [particle E NU]";
+    "fix ID GROUP viscontact/wall (xplane|yplane|zplane LO HI | zcylinder R | region ID) "
+    "wall_material (E NU | rigid) damping LAW ... tangential ... [wiggle DIM A PERIOD | "
+    "shear DIM V] [particle E NU] [contacts]";
+const char *const KEYWORDS = "wall_material damping end tangential wiggle shear particle contacts";
+constexpr double BIG = 1.0e300;    // distance to an absent (NULL) plane
 
 }    // namespace
 
@@ -45,8 +50,16 @@ double FixWallViscontact::parse_coordinate(const std::string &key, const char *t
   return v;
 }
 
+int FixWallViscontact::parse_dim(const std::string &key, const std::string &text)
+{
+  if (text == "x") return 0;
+  if (text == "y") return 1;
+  if (text == "z") return 2;
+  fail(key + " DIM must be x, y or z, got " + viscontact::quoted(text));
+}
+
 FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), history(nullptr)
+    Fix(lmp, narg, arg), region(nullptr), tmax(1), store(nullptr)
 {
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
     fail("requires atom_style sphere (radius, rmass, omega, torque)");
@@ -59,7 +72,6 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
   lo = hi = cylradius = 0.0;
   if (style == "xplane" || style == "yplane" || style == "zplane") {
     wallstyle = style[0] - 'x';
-    nwall = 2;
     if (narg < 6) fail(style + " needs LO HI (a coordinate or NULL each)");
     lo = parse_coordinate(style + " LO", arg[4], has_lo);
     hi = parse_coordinate(style + " HI", arg[5], has_hi);
@@ -70,7 +82,6 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
     iarg = 6;
   } else if (style == "zcylinder") {
     wallstyle = ZCYLINDER;
-    nwall = 1;
     if (narg < 5) fail("zcylinder needs its radius R (> 0)");
     const std::string err =
         viscontact::parse_number("zcylinder R", arg[4], viscontact::POSITIVE_DOMAIN, cylradius);
@@ -78,18 +89,31 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
     if (domain->xperiodic || domain->yperiodic)
       fail("zcylinder cannot be used with periodic x or y");
     iarg = 5;
+  } else if (style == "region") {
+    wallstyle = REGION;
+    if (narg < 5) fail("region needs the ID of a region");
+    idregion = arg[4];
+    region = domain->get_region_by_id(idregion);
+    if (!region) fail("region " + viscontact::quoted(idregion) + " does not exist");
+    tmax = region->tmax;
+    if (tmax < 1) fail("region " + viscontact::quoted(idregion) + " has no surface to touch");
+    iarg = 5;
   } else {
     fail("unknown wall style " + viscontact::quoted(style) +
-         "; allowed: xplane yplane zplane (LO HI) or zcylinder R");
+         "; allowed: xplane yplane zplane (LO HI), zcylinder R or region REGION-ID");
   }
 
-  // materials and the law
+  // materials, motion and the law
   std::vector<std::string> args(arg + iarg, arg + narg);
   viscontact::LawKeywords kw;
   bool seen_wall = false;
   has_particle = false;
   wall_rigid = false;
   wall_E = wall_nu = particle_E = particle_nu = 0.0;
+  motion = STILL;
+  axis = 0;
+  amplitude = wfreq = vshear = 0.0;
+  peratom_flag = 0;
   size_t i = 0;
   while (i < args.size()) {
     std::string err;
@@ -117,15 +141,58 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       if (!err.empty()) fail(err);
       has_particle = true;
       i += 3;
+    } else if (args[i] == "wiggle") {
+      if (motion == WIGGLE) fail("wiggle given twice");
+      if (motion == SHEAR) fail("wiggle and shear cannot be combined: choose one");
+      if (i + 3 >= args.size()) fail("wiggle needs DIM A PERIOD (DIM x|y|z, PERIOD > 0)");
+      axis = parse_dim("wiggle", args[i + 1]);
+      double period = 0.0;
+      err = viscontact::parse_number("wiggle A", args[i + 2],
+                                     viscontact::Domain{-1e300, 1e300, false}, amplitude);
+      if (err.empty())
+        err = viscontact::parse_number("wiggle PERIOD", args[i + 3], viscontact::POSITIVE_DOMAIN,
+                                       period);
+      if (!err.empty()) fail(err);
+      wfreq = 2.0 * M_PI / period;
+      motion = WIGGLE;
+      i += 4;
+    } else if (args[i] == "shear") {
+      if (motion == SHEAR) fail("shear given twice");
+      if (motion == WIGGLE) fail("wiggle and shear cannot be combined: choose one");
+      if (i + 2 >= args.size()) fail("shear needs DIM V (DIM x|y|z, V a velocity)");
+      axis = parse_dim("shear", args[i + 1]);
+      err = viscontact::parse_number("shear V", args[i + 2],
+                                     viscontact::Domain{-1e300, 1e300, false}, vshear);
+      if (!err.empty()) fail(err);
+      motion = SHEAR;
+      i += 3;
+    } else if (args[i] == "contacts") {
+      if (peratom_flag) fail("contacts given twice");
+      peratom_flag = 1;
+      size_peratom_cols = 8;
+      peratom_freq = 1;
+      i += 1;
     } else {
-      fail("unknown keyword " + viscontact::quoted(args[i]) +
-           "; allowed: wall_material damping end tangential particle");
+      fail("unknown keyword " + viscontact::quoted(args[i]) + "; allowed: " + KEYWORDS);
     }
   }
   if (!seen_wall) fail("missing wall_material (E NU | rigid)");
   const std::string err = kw.finish();
   if (!err.empty()) fail(err);
   law = kw.lp;
+
+  if (motion != STILL) {
+    const char *what = motion == WIGGLE ? "wiggle" : "shear";
+    if (wallstyle == REGION)
+      fail(std::string(what) + " cannot be used with a region wall: move the region itself "
+                               "(region ... move/rotate)");
+    if (motion == WIGGLE && wallstyle == ZCYLINDER && axis != 2)
+      fail("zcylinder can only wiggle along z");
+    if (motion == SHEAR && wallstyle == axis)
+      fail(std::string("shear DIM must lie in the plane (") + style + " cannot shear along " +
+           "xyz"[axis] + ")");
+  }
+  time_origin = update->ntimestep;
 
   // global output: total force of the wall(s) on the group
   vector_flag = 1;
@@ -136,11 +203,16 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
   wallforce_all[0] = wallforce_all[1] = wallforce_all[2] = 0.0;
   wallforce_summed = true;
 
-  // per-atom history: migrates with atoms, goes to restart files
-  nvalues = nwall * HIST;
+  // per-atom history: migrates with atoms, goes to restart files; the global record keeps a
+  // region's motion and the wiggle origin
+  nvalues = 1 + tmax * SLOT;
   restart_peratom = 1;
+  restart_global = 1;
   create_attribute = 1;
-  maxexchange = nvalues;
+  maxexchange = nvalues + (peratom_flag ? size_peratom_cols : 0);
+  array_atom = nullptr;
+  touches.reserve(tmax);
+  t2s.reserve(tmax);
   grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
   atom->add_callback(Atom::RESTART);
@@ -151,7 +223,8 @@ FixWallViscontact::~FixWallViscontact()
 {
   atom->delete_callback(id, Atom::GROW);
   atom->delete_callback(id, Atom::RESTART);
-  memory->destroy(history);
+  memory->destroy(store);
+  memory->destroy(array_atom);
 }
 
 int FixWallViscontact::setmask()
@@ -168,6 +241,13 @@ void FixWallViscontact::init()
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
     fail("requires atom_style sphere (radius, rmass, omega, torque)");
   if (utils::strmatch(update->integrate_style, "^respa")) fail("does not support run_style respa");
+  if (wallstyle == REGION) {
+    region = domain->get_region_by_id(idregion);
+    if (!region) fail("region " + viscontact::quoted(idregion) + " does not exist");
+    if (region->tmax > tmax)
+      fail("region " + viscontact::quoted(idregion) + " was redefined with more faces than "
+           "when the fix was defined: define the fix again");
+  }
 
   // which types of the group are present (any rank): each needs a material
   const int ntypes = atom->ntypes;
@@ -233,21 +313,91 @@ void FixWallViscontact::min_post_force(int vflag)
 }
 
 /* ----------------------------------------------------------------------
-   one sphere-wall contact: atom i, wall w, overlap delta > 0, n the unit normal from the wall
-   into the sphere.  At setup (update_history false) the history is read, never written.
+   the wall faces near sphere i: planes and cylinder as LAMMPS fix wall/gran (the nearer plane
+   of LO/HI; the cylinder's +-2R curvature), a region through Region::surface()
 ------------------------------------------------------------------------- */
 
-void FixWallViscontact::contact(int i, int w, double delta, const double n[3], double rwall,
-                                bool update_history, double t_now)
+void FixWallViscontact::find_touches(int i, double wlo, double whi, const double vplane[3])
 {
-  double *stored = &history[i][w * HIST];    // touch, xi[3], t0
-  double h[HIST];
-  for (int m = 0; m < HIST; m++) h[m] = stored[m];
+  touches.clear();
+  const double *x = atom->x[i];
+  const double rad = atom->radius[i];
+  Touch c;
+  c.rwall = 0.0;
+  c.n[0] = c.n[1] = c.n[2] = 0.0;
+  c.vwall[0] = vplane[0];
+  c.vwall[1] = vplane[1];
+  c.vwall[2] = vplane[2];
+  if (wallstyle <= ZPLANE) {
+    const int d = wallstyle;
+    const double del1 = has_lo ? x[d] - wlo : BIG;
+    const double del2 = has_hi ? whi - x[d] : BIG;
+    // signed distance from the nearer plane (a sphere pushed through it has the normal
+    // reversed, as in LAMMPS)
+    const double dist = del1 < del2 ? del1 : -del2;
+    c.iwall = del1 < del2 ? 0 : 1;
+    c.r = std::fabs(dist);
+    if (c.r >= rad || c.r == 0.0) return;
+    c.n[d] = dist > 0.0 ? 1.0 : -1.0;
+    touches.push_back(c);
+  } else if (wallstyle == ZCYLINDER) {
+    const double delxy = std::sqrt(x[0] * x[0] + x[1] * x[1]);
+    const double delr = cylradius - delxy;
+    c.iwall = 0;
+    c.r = std::fabs(delr);
+    if (delr > rad || c.r >= rad || c.r == 0.0 || delxy == 0.0) return;
+    // n from the surface into the sphere: inwards for a sphere inside, outwards outside
+    const double s = delr > 0.0 ? -1.0 : 1.0;
+    c.n[0] = s * x[0] / delxy;
+    c.n[1] = s * x[1] / delxy;
+    // as native: a sphere inside touches a concave wall of curvature radius -2R, one outside
+    // the convex outer face, +2R
+    c.rwall = delxy < cylradius ? -2.0 * cylradius : 2.0 * cylradius;
+    if (motion == SHEAR && axis != 2) {    // a turning cylinder, surface speed V
+      c.vwall[0] = vshear * x[1] / delxy;
+      c.vwall[1] = -vshear * x[0] / delxy;
+      c.vwall[2] = 0.0;
+    }
+    touches.push_back(c);
+  } else {
+    const int nc = region->surface(x[0], x[1], x[2], rad);
+    if (nc > tmax)
+      error->one(FLERR, std::string(PREFIX) + "atom " + std::to_string(atom->tag[i]) +
+                            " touches " + std::to_string(nc) + " faces of region " + idregion +
+                            ", more than the " + std::to_string(tmax) + " it allows");
+    const bool moving = region->dynamic_check();
+    for (int ic = 0; ic < nc; ic++) {
+      const auto &rc = region->contact[ic];
+      if (!(rc.r > 0.0) || rc.r >= rad) continue;
+      c.iwall = rc.iwall;
+      c.r = rc.r;
+      c.n[0] = rc.delx / rc.r;
+      c.n[1] = rc.dely / rc.r;
+      c.n[2] = rc.delz / rc.r;
+      c.rwall = rc.radius;
+      if (moving) region->velocity_contact(c.vwall, atom->x[i], ic);
+      else c.vwall[0] = c.vwall[1] = c.vwall[2] = 0.0;
+      touches.push_back(c);
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   one sphere-wall contact: atom i, the contact's history hist (touch flag, model history;
+   updated in place when update_history), the face c.  Adds force and torque to atom i.
+------------------------------------------------------------------------- */
+
+void FixWallViscontact::contact(int i, double *h, const Touch &c, bool update_history,
+                                double t_now)
+{
   const double r = atom->radius[i];
-  // R* = r rwall/(r + rwall) with the wall's curvature radius rwall (0: a plane, R* = r), as
-  // native fix wall/gran (SPEC 10.8); it feeds k_Hertz, a, c0/tau and the Mindlin stiffness
-  const double reff = rwall == 0.0 ? r : r * rwall / (r + rwall);
-  const double *v = atom->v[i];
+  const double delta = r - c.r;
+  const double *n = c.n;
+  // R* = r rw/(r + rw) with the wall's signed curvature radius rw (0: flat, R* = r), as
+  // native fix wall/gran(/region); it feeds k_Hertz, a, c0/tau and the Mindlin stiffness
+  const double reff = c.rwall == 0.0 ? r : r * c.rwall / (r + c.rwall);
+  const double *vi = atom->v[i];
+  const double v[3] = {vi[0] - c.vwall[0], vi[1] - c.vwall[1], vi[2] - c.vwall[2]};
   const double *om = atom->omega[i];
   const double dt = update->dt;
   const viscontact::LawParams &lp = type_law[atom->type[i]];
@@ -287,15 +437,21 @@ void FixWallViscontact::contact(int i, int w, double delta, const double n[3], d
     torque[1] += tq[1];
     torque[2] += tq[2];
   }
-  // a run's setup computes forces from the history but never changes it (as pair viscontact
-  // and pair granular): a contact new at setup starts at the first step
-  if (update_history)
-    for (int m = 0; m < HIST; m++) stored[m] = h[m];
   double *f = atom->f[i];
+  double fc[3];
   for (int d = 0; d < 3; d++) {
-    const double fd = fn * n[d] + ft[d];
-    f[d] += fd;
-    wallforce[d] += fd;
+    fc[d] = fn * n[d] + ft[d];
+    f[d] += fc[d];
+    wallforce[d] += fc[d];
+  }
+  if (peratom_flag) {    // native's 8 columns; the last contact of the atom wins
+    double *a = array_atom[i];
+    a[0] = 1.0;
+    for (int d = 0; d < 3; d++) {
+      a[1 + d] = fc[d];
+      a[4 + d] = atom->x[i][d] - c.r * n[d];
+    }
+    a[7] = r;
   }
 }
 
@@ -303,8 +459,6 @@ void FixWallViscontact::post_force(int /*vflag*/)
 {
   const bool update_history = !update->setupflag;
   const double t_now = viscontact::time_now(update);
-  double **x = atom->x;
-  const double *radius = atom->radius;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
 
@@ -312,38 +466,63 @@ void FixWallViscontact::post_force(int /*vflag*/)
   wallforce_summed = false;
   if (neighbor->ago == 0) masses.refresh(atom);    // rigid-body masses of the local atoms
 
+  // the wall's position and velocity this step (planes, cylinder)
+  double wlo = lo, whi = hi;
+  double vplane[3] = {0.0, 0.0, 0.0};
+  if (motion == WIGGLE) {
+    const double arg = wfreq * static_cast<double>(update->ntimestep - time_origin) * update->dt;
+    if (wallstyle == axis) {
+      wlo = lo + amplitude - amplitude * std::cos(arg);
+      whi = hi + amplitude - amplitude * std::cos(arg);
+    }
+    vplane[axis] = amplitude * wfreq * std::sin(arg);
+  } else if (motion == SHEAR) {
+    vplane[axis] = vshear;
+  }
+  // a region's motion: its transform and its velocity over the last step (once per step for
+  // all fixes using the region)
+  if (region && region->dynamic_check()) {
+    region->prematch();
+    region->set_velocity();
+  }
+  if (peratom_flag)
+    for (int i = 0; i < nlocal; i++)
+      for (int m = 0; m < size_peratom_cols; m++) array_atom[i][m] = 0.0;
+
+  std::vector<double> kept(tmax * SLOT);
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
-    for (int w = 0; w < nwall; w++) {
-      double n[3] = {0.0, 0.0, 0.0};
-      double delta = -1.0;
-      double rwall = 0.0;    // a plane
-      if (wallstyle == ZCYLINDER) {
-        const double rr = std::sqrt(x[i][0] * x[i][0] + x[i][1] * x[i][1]);
-        if (rr > 0.0) {
-          // as native fix wall/gran: a sphere inside touches a concave wall of curvature
-          // radius -2R, one outside the convex outer face, +2R (the overlap and normal of
-          // that face)
-          const bool inside = rr <= cylradius;
-          const double sgn = inside ? -1.0 : 1.0;
-          delta = radius[i] - std::fabs(cylradius - rr);
-          n[0] = sgn * x[i][0] / rr;
-          n[1] = sgn * x[i][1] / rr;
-          rwall = 2.0 * sgn * cylradius;
+    if (region && !region->match(atom->x[i][0], atom->x[i][1], atom->x[i][2])) {
+      // outside the region: no contact, and no stale history to come back with the atom
+      if (update_history) store[i][0] = 0.0;
+      continue;
+    }
+    find_touches(i, wlo, whi, vplane);
+
+    // each face's history by its wall index; faces no longer touched are forgotten and a new
+    // face starts from zero
+    const int nold = static_cast<int>(store[i][0]);
+    int nkept = 0;
+    for (const Touch &c : touches) {
+      double *h = &kept[nkept * SLOT];
+      h[0] = c.iwall;
+      double *hist = h + 1;
+      for (int m = 0; m < HIST; m++) hist[m] = 0.0;
+      for (int k = 0; k < nold; k++) {
+        const double *s = slot(i, k);
+        if (static_cast<int>(s[0]) == c.iwall) {
+          for (int m = 0; m < HIST; m++) hist[m] = s[1 + m];
+          break;
         }
-      } else if (w == 0 && has_lo) {
-        delta = radius[i] - (x[i][wallstyle] - lo);
-        n[wallstyle] = 1.0;
-      } else if (w == 1 && has_hi) {
-        delta = radius[i] - (hi - x[i][wallstyle]);
-        n[wallstyle] = -1.0;
       }
-      if (delta > 0.0) {
-        contact(i, w, delta, n, rwall, update_history, t_now);
-      } else if (update_history) {
-        double *h = &history[i][w * HIST];    // contact open: forget it
-        for (int m = 0; m < HIST; m++) h[m] = 0.0;
-      }
+      contact(i, hist, c, update_history, t_now);
+      nkept++;
+    }
+    // a run's setup computes forces from the history but never changes it (as pair
+    // viscontact and pair granular): a contact new at setup starts at the first step
+    if (update_history) {
+      store[i][0] = nkept;
+      for (int m = 0; m < nkept * SLOT; m++) store[i][1 + m] = kept[m];
     }
   }
 }
@@ -357,40 +536,78 @@ double FixWallViscontact::compute_vector(int k)
   return wallforce_all[k];
 }
 
+/* ---- global restart record: the wiggle origin and a region's motion state --------------- */
+
+void FixWallViscontact::write_restart(FILE *fp)
+{
+  if (comm->me != 0) return;
+  int len = 0;
+  if (region) region->length_restart_string(len);
+  const int size = static_cast<int>(sizeof(bigint)) + len;
+  fwrite(&size, sizeof(int), 1, fp);
+  fwrite(&time_origin, sizeof(bigint), 1, fp);
+  if (region) region->write_restart(fp);
+}
+
+void FixWallViscontact::restart(char *buf)
+{
+  std::memcpy(&time_origin, buf, sizeof(bigint));
+  if (region) {
+    int n = static_cast<int>(sizeof(bigint));
+    if (!region->restart(buf, n)) {
+      if (comm->me == 0)
+        error->warning(FLERR, std::string(PREFIX) + "region " + idregion +
+                                  " differs from the restart file's: its motion restarts");
+      region->reset_vel();
+    }
+  }
+}
+
 /* ---- per-atom history: grow, copy, migrate, restart ---------------------------------------- */
 
 void FixWallViscontact::grow_arrays(int nmax)
 {
-  memory->grow(history, nmax, nvalues, "viscontact/wall:history");
+  memory->grow(store, nmax, nvalues, "viscontact/wall:history");
+  if (peratom_flag) memory->grow(array_atom, nmax, size_peratom_cols, "viscontact/wall:contacts");
 }
 
 void FixWallViscontact::copy_arrays(int i, int j, int /*delflag*/)
 {
-  for (int m = 0; m < nvalues; m++) history[j][m] = history[i][m];
+  for (int m = 0; m < nvalues; m++) store[j][m] = store[i][m];
+  if (peratom_flag)
+    for (int m = 0; m < size_peratom_cols; m++) array_atom[j][m] = array_atom[i][m];
 }
 
 void FixWallViscontact::set_arrays(int i)
 {
-  for (int m = 0; m < nvalues; m++) history[i][m] = 0.0;
+  for (int m = 0; m < nvalues; m++) store[i][m] = 0.0;
+  if (peratom_flag)
+    for (int m = 0; m < size_peratom_cols; m++) array_atom[i][m] = 0.0;
 }
 
 int FixWallViscontact::pack_exchange(int i, double *buf)
 {
-  for (int m = 0; m < nvalues; m++) buf[m] = history[i][m];
-  return nvalues;
+  int n = 0;
+  for (int m = 0; m < nvalues; m++) buf[n++] = store[i][m];
+  if (peratom_flag)
+    for (int m = 0; m < size_peratom_cols; m++) buf[n++] = array_atom[i][m];
+  return n;
 }
 
 int FixWallViscontact::unpack_exchange(int nlocal, double *buf)
 {
-  for (int m = 0; m < nvalues; m++) history[nlocal][m] = buf[m];
-  return nvalues;
+  int n = 0;
+  for (int m = 0; m < nvalues; m++) store[nlocal][m] = buf[n++];
+  if (peratom_flag)
+    for (int m = 0; m < size_peratom_cols; m++) array_atom[nlocal][m] = buf[n++];
+  return n;
 }
 
 int FixWallViscontact::pack_restart(int i, double *buf)
 {
   // first value: how many values this fix wrote for the atom, itself included
   buf[0] = nvalues + 1;
-  for (int m = 0; m < nvalues; m++) buf[m + 1] = history[i][m];
+  for (int m = 0; m < nvalues; m++) buf[m + 1] = store[i][m];
   return nvalues + 1;
 }
 
@@ -401,10 +618,11 @@ void FixWallViscontact::unpack_restart(int nlocal, int nth)
   for (int k = 0; k < nth; k++) m += static_cast<int>(extra[nlocal][m]);
   if (static_cast<int>(extra[nlocal][m]) != nvalues + 1)
     error->one(FLERR, std::string(PREFIX) +
-                          "restart file holds a different wall history size (was the wall style "
-                          "changed between write_restart and read_restart?)");
+                          "restart file holds a different wall history size (was the wall style, "
+                          "region or contact model changed between write_restart and "
+                          "read_restart?)");
   m++;
-  for (int k = 0; k < nvalues; k++) history[nlocal][k] = extra[nlocal][m++];
+  for (int k = 0; k < nvalues; k++) store[nlocal][k] = extra[nlocal][m++];
 }
 
 int FixWallViscontact::size_restart(int /*nlocal*/)
@@ -419,5 +637,6 @@ int FixWallViscontact::maxsize_restart()
 
 double FixWallViscontact::memory_usage()
 {
-  return static_cast<double>(atom->nmax) * nvalues * sizeof(double);
+  return static_cast<double>(atom->nmax) * (nvalues + (peratom_flag ? size_peratom_cols : 0)) *
+      sizeof(double);
 }

@@ -1,26 +1,47 @@
-/* fix viscontact/wall: static walls acting on spheres with the viscontact contact laws.
+/* fix viscontact/wall: walls acting on spheres with the viscontact contact model.
 
-     fix ID GROUP viscontact/wall WALLSTYLE ARGS wall_material (E NU | rigid)
-         damping LAW [p P] FORM [end force|overlap] tangential TANG [particle E NU]
-       WALLSTYLE ARGS = xplane LO HI | yplane LO HI | zplane LO HI   (LO, HI a coordinate or NULL)
-                      | zcylinder R          (inner wall of the cylinder x^2 + y^2 = R^2)
-       FORM, TANG as in pair viscontact (viscontact_keywords.h)
+     fix ID GROUP viscontact/wall WALL wall_material (E NU | rigid) [normal hertz|dmt W|jkr W]
+         damping ... tangential ... [rolling ...] [twisting ...] [heat area K]
+         [temperature T|v_name] [wiggle DIM A PERIOD | shear DIM V] [particle E NU] [contacts]
+       WALL = xplane LO HI | yplane LO HI | zplane LO HI   (LO, HI a coordinate or NULL)
+            | zcylinder R                                  (axis z through the origin)
+            | region REGION-ID                             (any LAMMPS region, may move/rotate)
 
-   Sphere-wall contact (SPEC sections 9, 10.8): R* = r, m* = m (the body's mass for a sphere in
-   a rigid body), 1/E* = (1-nu_p^2)/E_p + (1-nu_w^2)/E_w,
-   1/G* = (2-nu_p)/G_p + (2-nu_w)/G_w (rigid wall: its terms are 0).  The particle's E, nu come
-   from `particle E NU`, else from pair viscontact's `pair_coeff I I`.  The force law, c0 and tau
-   per contact, the clamp, the Jian clock and the Mindlin step are those of
-   viscontact_contact.h, exactly as in the pair style.  The cylinder is treated like a plane
-   tangent at the contact point (R* = r, as LAMMPS fix wall/gran does).  Walls are static; the
-   friction torque acts with the arm r, as in fix wall/gran (for KK, LAMMPS's `viscoelastic`,
-   the two fixes agree to rounding: tests/test_dem_wall.py).  Any units style: each value in
-   the style's units (docs/pair_viscontact.md).
+   Geometry (one "contact" = one wall face touching the sphere; each has its own history):
+   - planes: only the nearer of LO and HI acts (as LAMMPS fix wall/gran); n points from the
+     wall into the sphere, delta = r - distance, the wall is flat (R* = r).
+   - zcylinder: radial distance to the cylinder of radius R; the wall's curvature radius is
+     -2R for a sphere inside and +2R outside (LAMMPS's convention), R* = r rw/(r + rw).
+   - region: every face that Region::surface() finds within r of the sphere centre is one
+     contact, keyed by the face's wall index (Region::Contact::iwall), with R* from the face's
+     signed curvature radius (0 flat, < 0 concave).  More contacts than the region allows
+     (Region::tmax) is an error.  Spheres outside the region are skipped and their wall history
+     cleared.  The wall velocity at a contact is the region's: Region::prematch(),
+     set_velocity() once per step, velocity_contact() per contact (translation over the last
+     step / dt, rotation omega x (x_c - point), variable shapes); zero for a static region.
+   - wiggle DIM A PERIOD: the wall oscillates along DIM; a plane normal to DIM sits at
+     LO/HI + A (1 - cos(w t)), w = 2 pi/PERIOD, t = (step - step the fix was defined) dt; the
+     wall velocity along DIM is A w sin(w t).  zcylinder: DIM z only.
+   - shear DIM V: a plane moves at V along DIM (DIM in the plane); a zcylinder slides along z
+     (DIM z) or turns about z (DIM x or y) with surface speed V: wall velocity
+     V (y, -x)/sqrt(x^2 + y^2) at the sphere (LAMMPS documents this; its code accumulates the
+     velocity over atoms, which we do not reproduce).  wiggle + shear, or either with region,
+     is an error.
 
-   History per atom and wall: touch flag, tangential displacement xi[3], contact start time;
-   it migrates with the atom and is written to restart files.  A run's setup reads it and
-   never writes it (as pair viscontact and pair granular).  Global vector (3): the total force
-   of the wall(s) on the group [N].
+   Contact model: the one viscontact contact step (viscontact_contact.h) with the wall as body
+   j: r_j = 0 (R* from the curvature above), m* = m_i (the body's mass in a rigid body),
+   w_j = 0, v_j = the wall velocity, lever arm r_i.  Materials: 1/E* = (1-nu_p^2)/E_p +
+   (1-nu_w^2)/E_w, 1/G* = (2-nu_p)/G_p + (2-nu_w)/G_w; `rigid` drops the wall terms; the
+   particle's E, nu from `particle E NU`, else from pair viscontact's `pair_coeff I I`.
+
+   History per atom: up to tmax contacts (1 for planes and zcylinder), each [wall index, the
+   contact model's history].  It migrates with the atom and is written to restart files; a
+   region's motion state and the wiggle origin go to the global restart record.  A run's setup
+   reads the history and never writes it.
+
+   Output: global vector (3), the total force of the wall on the group; with `contacts`, the
+   per-atom array of LAMMPS fix wall/gran (8 columns: touching flag, force x y z of the last
+   contact, contact point x y z, sphere radius).
 
    This file is part of viscontact.  Compiled into a LAMMPS plugin it links GPL-2 LAMMPS. */
 #ifndef VISCONTACT_FIX_WALL_VISCONTACT_H
@@ -57,14 +78,25 @@ class FixWallViscontact : public Fix {
   void unpack_restart(int, int) override;
   int size_restart(int) override;
   int maxsize_restart() override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
   double memory_usage() override;
 
  private:
-  enum Style { XPLANE = 0, YPLANE = 1, ZPLANE = 2, ZCYLINDER = 3 };
+  enum Style { XPLANE = 0, YPLANE = 1, ZPLANE = 2, ZCYLINDER = 3, REGION = 4 };
   int wallstyle;
-  int nwall;               // walls of this fix: 2 for a plane pair (lo, hi), 1 for a cylinder
   bool has_lo, has_hi;     // plane walls present (NULL: absent)
   double lo, hi, cylradius;
+  std::string idregion;
+  class Region *region;
+  int tmax;                // most contacts one sphere can have with this wall
+
+  // wall motion (planes, zcylinder)
+  enum Motion { STILL, WIGGLE, SHEAR };
+  int motion;
+  int axis;                // DIM of wiggle/shear: 0, 1, 2
+  double amplitude, wfreq, vshear;
+  bigint time_origin;      // the step the fix was defined (wiggle phase 0)
 
   viscontact::LawParams law;            // as parsed (Estar, Gstar filled per type in init)
   std::vector<viscontact::LawParams> type_law;    // [ntypes+1]: law with the type's E*, G*
@@ -73,7 +105,7 @@ class FixWallViscontact : public Fix {
   bool has_particle;
   double particle_E, particle_nu;
 
-  // k, c0, tau depend on (type, m, r) only: a direct-mapped cache keeps the alpha form's
+  // k, c0, tau depend on (type, m, R*) only: a direct-mapped cache keeps the alpha form's
   // powers out of the step for the few distinct spheres of most packings
   struct Coeffs {
     int type = -1;
@@ -82,22 +114,38 @@ class FixWallViscontact : public Fix {
   };
   static constexpr int CACHE_BITS = 8;
   std::vector<Coeffs> cache;
-  const viscontact::ContactCoeffs &coeffs(int type, double m, double r);
+  const viscontact::ContactCoeffs &coeffs(int type, double m, double reff);
 
-  // per atom: nwall * HIST values; per wall: touch flag, xi[3], contact start time
-  static constexpr int HIST = 1 + viscontact::HISTORY_SIZE;
+  // per-atom storage: [0] number of stored contacts, then tmax slots of
+  // [wall index, touch flag, the contact step's history]
+  static constexpr int HIST = 1 + viscontact::HISTORY_SIZE;    // touch flag + model history
+  static constexpr int SLOT = 1 + HIST;
   int nvalues;
-  double **history;
+  double **store;
+  double *slot(int i, int k) { return &store[i][1 + k * SLOT]; }
 
   viscontact::EffectiveMass masses;    // m* = the sphere's (or its rigid body's) mass
 
   double wallforce[3], wallforce_all[3];
   bool wallforce_summed;
 
+  /// One wall face touching (or near) sphere i this step.
+  struct Touch {
+    int iwall;          // key of its history (plane: 0 lo, 1 hi; cylinder 0; region: face)
+    double r;           // distance from the surface point to the centre (> 0)
+    double n[3];        // unit normal from the wall into the sphere
+    double rwall;       // signed curvature radius of the wall there (0: flat)
+    double vwall[3];    // wall velocity at the contact
+  };
+  std::vector<Touch> touches;
+  void find_touches(int i, double wlo, double whi, const double vplane[3]);
+  void match_history(int i);    // keyed region history: keep found faces, drop the others
+  std::vector<int> t2s;         // touches[k] -> slot index of its history
+
   [[noreturn]] void fail(const std::string &msg);
   double parse_coordinate(const std::string &key, const char *text, bool &present);
-  void contact(int i, int w, double delta, const double n[3], double rwall, bool update_history,
-               double t_now);
+  int parse_dim(const std::string &key, const std::string &text);
+  void contact(int i, double *hist, const Touch &c, bool update_history, double t_now);
 };
 
 }    // namespace LAMMPS_NS
