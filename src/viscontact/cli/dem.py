@@ -76,7 +76,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog="example: viscontact dem coeff --law KK --e 0.8 --vref 1 --type "
         "E=1e7,nu=0.3,density=2500,d=0.002:0.004 --type E=2e8,nu=0.2,density=7800,d=0.003 "
         "--e-pair 1 2 0.7 --e-wall 2 0.6 --wall zplane 0 NULL rigid --wall zcylinder 0.05 "
-        "2e9 0.25 --friction 0.5")
+        "2e9 0.25 --friction 0.5;  with every sub-model: viscontact dem coeff --law KK --E 1e7 "
+        "--nu 0.3 --e 0.8 --vref 1 --normal jkr 10 --tangential mindlin_rescale NULL 0.5 0.5 "
+        "--rolling sds 200 0.05 0.1 --twisting sds 1e-5 1e-7 1e-3 --wall region drum rigid")
     c.add_argument("--law", required=True, metavar="NAME",
                    help=f"damping law: one of {', '.join(MODELS)} (case-insensitive)")
     c.add_argument("--E", dest="E", type=float, metavar="PA",

