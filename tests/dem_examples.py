@@ -260,3 +260,33 @@ def force_differences(a: Run, b: Run) -> list[tuple[int, int, float]]:
                                      / scale))
         out.append((fa.step, contacts(fa), worst))
     return out
+
+
+# ------------------------------------------------------------------ plugin capabilities
+_PROBE = """{plugin}
+units si
+atom_style sphere
+boundary p p f
+comm_modify vel yes
+region box block 0 0.1 0 0.1 0 0.1
+create_box 1 box
+create_atoms 1 single 0.05 0.05 0.05
+set type 1 diameter 0.01
+set type 1 density 2500
+pair_style viscontact
+{lines}
+run 0
+"""
+_HAS: dict[str, str] = {}
+
+
+def plugin_lacks(lines: str, tmp: Path) -> str:
+    """'' if this plugin build accepts ``lines`` (after pair_style viscontact, then ``run 0``),
+    else LAMMPS's first error line: a feature another branch adds (the sub-models, compute
+    viscontact/energy) that the build under test may not have yet."""
+    if lines not in _HAS:
+        tmp.mkdir(parents=True, exist_ok=True)
+        proc = run_lmp(_PROBE.format(plugin=plugin_line(), lines=lines), tmp, name="in.probe")
+        errs = [ln for ln in (proc.stdout + proc.stderr).splitlines() if ln.startswith("ERROR")]
+        _HAS[lines] = errs[0] if errs or proc.returncode else ""
+    return _HAS[lines]
