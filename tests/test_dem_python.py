@@ -628,7 +628,10 @@ def test_energy_columns_and_readback(tmp_path):
     thermo = {w: np.arange(3.0) + k for k, w in enumerate(words)}
     got = dem.read_energy(thermo, "E1")
     assert list(got) == list(dem.ENERGY_COLUMNS) and got["elastic_twisting"][0] == 11.0
-    with pytest.raises(ValueError, match=r"no thermo column c_E1\[12\] \(elastic_twisting\)"):
+    frame = dem.Frame(step=0, natoms=3, box=np.zeros((3, 2)), boundary="pp pp ff",
+                      columns={"id": np.arange(1, 4), **thermo})
+    assert dem.read_energy(frame, "E1")["dissipated"].tolist() == [0.0, 1.0, 2.0]
+    with pytest.raises(ValueError, match=r"no column c_E1\[12\] \(elastic_twisting\)"):
         dem.read_energy({w: v for w, v in thermo.items() if w != "c_E1[12]"}, "E1")
     with pytest.raises(ValueError, match="compute ID"):
         dem.energy_thermo("a b")

@@ -39,7 +39,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .io import read_log
+from .io import Frame, read_log
 
 __all__ = ["ENERGY_COLUMNS", "DISSIPATION_COLUMNS", "ELASTIC_COLUMNS", "energy_compute",
            "energy_thermo", "read_energy"]
@@ -69,19 +69,26 @@ def energy_thermo(compute_id: str = "vcenergy") -> str:
     return " ".join(f"c_{cid}[{k}]" for k in range(1, len(ENERGY_COLUMNS) + 1))
 
 
-def read_energy(source: str | os.PathLike | Mapping[str, np.ndarray],
+def read_energy(source: "str | os.PathLike | Mapping[str, np.ndarray] | Frame",
                 compute_id: str = "vcenergy") -> dict[str, np.ndarray]:
-    """The 12 columns (:data:`ENERGY_COLUMNS` -> array over thermo rows) from a LAMMPS log
-    (its last run; ``thermo_style custom ... c_ID[1] ... c_ID[12]``, :func:`energy_thermo`) or
-    from thermo columns already read (:func:`viscontact.dem.read_log`, ``RunResult.thermo``).
+    """The 12 columns (:data:`ENERGY_COLUMNS` -> array) from a LAMMPS log (its last run;
+    ``thermo_style custom ... c_ID[1] ... c_ID[12]``, :func:`energy_thermo`: one value per
+    thermo row), from thermo columns already read (:func:`viscontact.dem.read_log`,
+    ``RunResult.thermo``), or from a dump frame (:func:`viscontact.dem.read_dump`; ``dump ID G
+    custom N FILE id ... c_ID[1] ... c_ID[12]``: the per-atom array, one value per atom).
     ValueError names the first column missing."""
     cid = _check_id(compute_id)
-    thermo = source if isinstance(source, Mapping) else read_log(source)
+    if isinstance(source, Frame):
+        thermo: Mapping[str, np.ndarray] = source.columns
+    elif isinstance(source, Mapping):
+        thermo = source
+    else:
+        thermo = read_log(source)
     out = {}
     for k, name in enumerate(ENERGY_COLUMNS, start=1):
         key = f"c_{cid}[{k}]"
         if key not in thermo:
-            raise ValueError(f"no thermo column {key} ({name}): add '{energy_compute(cid)}' and "
-                             f"'{energy_thermo(cid)}' to thermo_style custom")
+            raise ValueError(f"no column {key} ({name}): add '{energy_compute(cid)}' and "
+                             f"'{energy_thermo(cid)}' to thermo_style custom (or a custom dump)")
         out[name] = np.asarray(thermo[key], dtype=float)
     return out
