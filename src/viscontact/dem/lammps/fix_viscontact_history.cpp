@@ -10,7 +10,8 @@
 #include "modify.h"
 #include "neigh_list.h"
 #include "pair_viscontact.h"
-#include "viscontact_contact.h"
+#include "utils.h"
+#include "viscontact_model.h"
 
 #include <cstdlib>
 #include <cstring>
@@ -19,10 +20,12 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 FixViscontactHistory::FixViscontactHistory(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), pair(nullptr), drop_history(0), dnum(viscontact::HISTORY_SIZE),
+    Fix(lmp, narg, arg), pair(nullptr), drop_history(0), dnum(0),
     list_valid(false), partners_current(true), maxpartner(0), nlocal_neigh(0), nall_neigh(0)
 {
-  if (narg != 3) error->all(FLERR, "fix VISCONTACT_HISTORY is internal to pair viscontact");
+  if (narg != 4) error->all(FLERR, "fix VISCONTACT_HISTORY is internal to pair viscontact");
+  dnum = utils::inumeric(FLERR, arg[3], false, lmp);
+  if (dnum < 3 || dnum > 64) error->all(FLERR, "fix VISCONTACT_HISTORY: bad history size");
   restart_peratom = 1;
   restart_global = 1;
   create_attribute = 1;
@@ -69,15 +72,27 @@ void FixViscontactHistory::init()
   }
 }
 
-/* Append one partner (tag, values * sign for the tangential part) to atom i's list. */
-void FixViscontactHistory::add_partner(int i, double tag, const double *v, double sign)
+/* Append one partner (tag, values) to atom i's list; flip: seen from the other atom, i.e. the
+   displacements negated (the pair's history_signs). */
+void FixViscontactHistory::add_partner(int i, double tag, const double *v, double flip)
 {
   auto &s = store[i];
   s.push_back(tag);
-  s.push_back(sign * v[0]);
-  s.push_back(sign * v[1]);
-  s.push_back(sign * v[2]);
-  for (int k = 3; k < dnum; k++) s.push_back(v[k]);    // start time: same for both
+  const std::vector<double> &sign = pair->history_signs();
+  for (int k = 0; k < dnum; k++) s.push_back(flip < 0.0 ? sign[k] * v[k] : v[k]);
+}
+
+void FixViscontactHistory::energy_request()
+{
+  if (pair) pair->request_energy();
+}
+
+void FixViscontactHistory::add_energy(const double *diss, const double *elastic, bool advance)
+{
+  const int nlocal = atom->nlocal;
+  if (advance)
+    for (size_t k = 0; k < (size_t) nlocal * viscontact::NDISS; k++) ediss[k] += diss[k];
+  std::memcpy(eel.data(), elastic, sizeof(double) * (size_t) nlocal * viscontact::NELASTIC);
 }
 
 void FixViscontactHistory::update_maxexchange()
@@ -87,7 +102,7 @@ void FixViscontactHistory::update_maxexchange()
     const int np = (int) (store[i].size() / (dnum + 1));
     if (np > maxpartner) maxpartner = np;
   }
-  maxexchange = 1 + (dnum + 1) * maxpartner;
+  maxexchange = 1 + (dnum + 1) * maxpartner + viscontact::NDISS;
 }
 
 /* Per-neighbour arrays -> per-atom partner lists (both atoms of every touching contact).
@@ -205,24 +220,34 @@ void FixViscontactHistory::post_neighbor()
 void FixViscontactHistory::grow_arrays(int nmax)
 {
   if ((int) store.size() < nmax) store.resize(nmax);
+  if (ediss.size() < (size_t) nmax * viscontact::NDISS) ediss.resize((size_t) nmax * viscontact::NDISS, 0.0);
+  if (eel.size() < (size_t) nmax * viscontact::NELASTIC) eel.resize((size_t) nmax * viscontact::NELASTIC, 0.0);
 }
 
 void FixViscontactHistory::copy_arrays(int i, int j, int /*delflag*/)
 {
   store[j] = store[i];
+  for (int k = 0; k < viscontact::NDISS; k++) ediss[(size_t) j * viscontact::NDISS + k] = ediss[(size_t) i * viscontact::NDISS + k];
+  for (int k = 0; k < viscontact::NELASTIC; k++) eel[(size_t) j * viscontact::NELASTIC + k] = eel[(size_t) i * viscontact::NELASTIC + k];
 }
 
 void FixViscontactHistory::set_arrays(int i)
 {
   store[i].clear();
+  for (int k = 0; k < viscontact::NDISS; k++) ediss[(size_t) i * viscontact::NDISS + k] = 0.0;
+  for (int k = 0; k < viscontact::NELASTIC; k++) eel[(size_t) i * viscontact::NELASTIC + k] = 0.0;
 }
 
+/* Exchange and restart records: [number of partners, partners (tag + dnum values each), the
+   atom's NDISS cumulative dissipated energies]. */
 int FixViscontactHistory::pack_exchange(int i, double *buf)
 {
   const auto &s = store[i];
   buf[0] = (double) (s.size() / (dnum + 1));
   std::memcpy(&buf[1], s.data(), sizeof(double) * s.size());
-  return 1 + (int) s.size();
+  int m = 1 + (int) s.size();
+  for (int k = 0; k < viscontact::NDISS; k++) buf[m++] = ediss[(size_t) i * viscontact::NDISS + k];
+  return m;
 }
 
 int FixViscontactHistory::unpack_exchange(int nlocal, double *buf)
@@ -230,20 +255,25 @@ int FixViscontactHistory::unpack_exchange(int nlocal, double *buf)
   const int np = (int) buf[0];
   const int n = np * (dnum + 1);
   store[nlocal].assign(buf + 1, buf + 1 + n);
+  for (int k = 0; k < viscontact::NDISS; k++) ediss[(size_t) nlocal * viscontact::NDISS + k] = buf[1 + n + k];
+  for (int k = 0; k < viscontact::NELASTIC; k++) eel[(size_t) nlocal * viscontact::NELASTIC + k] = 0.0;
   if (np > maxpartner) {
     maxpartner = np;
-    maxexchange = 1 + (dnum + 1) * maxpartner;
+    maxexchange = 1 + (dnum + 1) * maxpartner + viscontact::NDISS;
   }
-  return 1 + n;
+  return 1 + n + viscontact::NDISS;
 }
 
 int FixViscontactHistory::pack_restart(int i, double *buf)
 {
-  // buf[0] = my size (other fixes skip over it), buf[1] = number of partners
+  // buf[0] = my size (other fixes skip over it), buf[1] = values per contact, buf[2] = number
+  // of partners, the partners, the cumulative dissipated energies
   const auto &s = store[i];
-  buf[1] = (double) (s.size() / (dnum + 1));
-  std::memcpy(&buf[2], s.data(), sizeof(double) * s.size());
-  const int m = 2 + (int) s.size();
+  buf[1] = (double) dnum;
+  buf[2] = (double) (s.size() / (dnum + 1));
+  std::memcpy(&buf[3], s.data(), sizeof(double) * s.size());
+  int m = 3 + (int) s.size();
+  for (int k = 0; k < viscontact::NDISS; k++) buf[m++] = ediss[(size_t) i * viscontact::NDISS + k];
   buf[0] = m;
   return m;
 }
@@ -254,14 +284,21 @@ void FixViscontactHistory::unpack_restart(int nlocal, int nth)
   int m = 0;
   for (int k = 0; k < nth; k++) m += static_cast<int>(extra[nlocal][m]);
   m++;
+  const int stored_dnum = static_cast<int>(extra[nlocal][m++]);
+  if (stored_dnum != dnum)
+    error->one(FLERR, "pair viscontact: the restart file's contact history has {} values per "
+               "contact, the pair_coeff lines now need {}; use the same sub-models as the run that "
+               "wrote it", stored_dnum, dnum);
   const int np = static_cast<int>(extra[nlocal][m++]);
   store[nlocal].assign(&extra[nlocal][m], &extra[nlocal][m] + np * (dnum + 1));
+  m += np * (dnum + 1);
+  for (int k = 0; k < viscontact::NDISS; k++) ediss[(size_t) nlocal * viscontact::NDISS + k] = extra[nlocal][m++];
   if (np > maxpartner) maxpartner = np;
 }
 
 int FixViscontactHistory::size_restart(int nlocal)
 {
-  return 2 + (int) store[nlocal].size();
+  return 3 + (int) store[nlocal].size() + viscontact::NDISS;
 }
 
 int FixViscontactHistory::maxsize_restart()
@@ -269,7 +306,7 @@ int FixViscontactHistory::maxsize_restart()
   update_maxexchange();
   int all = 0;
   MPI_Allreduce(&maxpartner, &all, 1, MPI_INT, MPI_MAX, world);
-  return 2 + (dnum + 1) * all;
+  return 3 + (dnum + 1) * all + viscontact::NDISS;
 }
 
 int FixViscontactHistory::pack_reverse_comm_size(int n, int first)
@@ -307,6 +344,7 @@ double FixViscontactHistory::memory_usage()
   double bytes = (double) store.size() * sizeof(std::vector<double>);
   for (const auto &s : store) bytes += (double) s.capacity() * sizeof(double);
   bytes += (double) pairval.capacity() * sizeof(double) + (double) pairflag.capacity() +
-      (double) offset.capacity() * sizeof(long);
+      (double) offset.capacity() * sizeof(long) +
+      (double) (ediss.capacity() + eel.capacity()) * sizeof(double);
   return bytes;
 }

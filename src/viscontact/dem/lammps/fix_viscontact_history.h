@@ -2,11 +2,14 @@
 
    Created by the pair style in init_style (ID VISCONTACT_HISTORY_<n>, group all).  Between
    neighbour-list builds the history lives in per-neighbour arrays aligned with the pair's
-   half list (flag + HISTORY_SIZE doubles per i-j entry, seen from i).  Before atoms migrate
+   half list (flag + dnum doubles per i-j entry, seen from i; dnum and the layout come from the
+   pair's contact models, viscontact_model.h).  Before atoms migrate
    (pre_exchange), at the end of every run (post_run) and before a restart file is written, each
    touching contact is copied to per-atom partner lists keyed by the partner's atom ID, on both
-   atoms (the j copy with the tangential displacement negated; newton on: ghost copies go to
-   their owners by a reverse communication).  The partner lists travel with the atoms
+   atoms (the j copy with the tangential, rolling and twisting displacements negated; newton on: ghost copies go to
+   their owners by a reverse communication).  The fix also keeps each atom's cumulative
+   dissipated energy by mechanism (migrates, restart) and its current elastic energy, for
+   compute viscontact/energy.  The partner lists travel with the atoms
    (pack_exchange) and into restart files (pack_restart); after each build (post_neighbor) the
    per-neighbour arrays are filled again from them by partner ID.
 
@@ -15,6 +18,7 @@
 #define VISCONTACT_FIX_HISTORY_H
 
 #include "fix.h"
+#include "viscontact_lammps.h"
 
 #include <vector>
 
@@ -22,7 +26,7 @@ namespace LAMMPS_NS {
 
 class PairViscontact;
 
-class FixViscontactHistory : public Fix {
+class FixViscontactHistory : public Fix, public viscontact::EnergySource {
  public:
   FixViscontactHistory(class LAMMPS *, int, char **);
   ~FixViscontactHistory() override;
@@ -58,6 +62,18 @@ class FixViscontactHistory : public Fix {
   double *values_of(int i) { return &pairval[(size_t) offset[i] * dnum]; }
   bool ready() const { return list_valid; }
 
+  /// Values per contact (the pair's history_size()).
+  int history_size() const { return dnum; }
+  /// Per-step energies from the pair (per atom, local + ghost rows, already reverse-summed):
+  /// dissipated (NDISS columns) added to the cumulative arrays when advance, elastic (NELASTIC)
+  /// stored as the atoms' current elastic energy.
+  void add_energy(const double *diss, const double *elastic, bool advance);
+
+  // viscontact::EnergySource
+  void energy_request() override;
+  const double *energy_dissipated_atom() const override { return ediss.data(); }
+  const double *energy_elastic_atom() const override { return eel.data(); }
+
   PairViscontact *pair;
   int drop_history;    ///< negative control of the tests ($VISCONTACT_TEST_DROP_HISTORY=1)
 
@@ -68,6 +84,8 @@ class FixViscontactHistory : public Fix {
   std::vector<long> offset;                  // per atom i of the list: first entry index
   std::vector<char> pairflag;
   std::vector<double> pairval;
+  std::vector<double> ediss;    // per atom: cumulative dissipated energy, NDISS columns
+  std::vector<double> eel;      // per atom: elastic energy now, NELASTIC columns
   bool list_valid;          // per-neighbour arrays match the current list and atom order
   bool partners_current;    // partner lists hold everything the per-neighbour arrays do
   int maxpartner;

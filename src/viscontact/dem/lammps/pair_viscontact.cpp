@@ -30,11 +30,14 @@ static const char *const HISTORY_ID = "VISCONTACT_HISTORY";
 static const char *const DUMMY_ID = "VISCONTACT_HISTORY_DUMMY";
 
 PairViscontact::PairViscontact(LAMMPS *lmp) :
-    Pair(lmp), params(nullptr), Ein(nullptr), nuin(nullptr), need_history(0),
-    history_lost(false), radii_checked_run{-1, -1}, fix_history(nullptr)
+    Pair(lmp), models(nullptr), cut_user(nullptr), cut_global(-1.0), dnum(3),
+    Ein(nullptr), nuin(nullptr), need_history(0), history_lost(false),
+    radii_checked_run{-1, -1}, fix_history(nullptr), heat_on(false)
 {
   single_enable = 1;
-  single_extra = 4;    // F_t (x, y, z) and the overlap, for compute pair/local p1..p4
+  // native's 12 (F_t, |F_t|, F_R, |F_R|, tau_twist, x_i - x_j), then the dissipated power and
+  // the contact's accumulated dissipated energy
+  single_extra = 14;
   svector = new double[single_extra];
   restartinfo = 1;
   finitecutflag = 1;
@@ -57,8 +60,9 @@ PairViscontact::~PairViscontact()
     memory->destroy(cutsq);
     memory->destroy(Ein);
     memory->destroy(nuin);
-    for (int i = 0; i <= atom->ntypes; i++) delete[] params[i];
-    delete[] params;
+    memory->destroy(cut_user);
+    for (int i = 0; i <= atom->ntypes; i++) delete[] models[i];
+    delete[] models;
   }
   if (fix_history && modify->get_fix_by_id(HISTORY_ID)) {
     fix_history->pair = nullptr;    // no call back into this half-destroyed pair
@@ -75,12 +79,14 @@ void PairViscontact::allocate()
   memory->create(cutsq, n + 1, n + 1, "pair:cutsq");
   memory->create(Ein, n + 1, n + 1, "pair:Ein");
   memory->create(nuin, n + 1, n + 1, "pair:nuin");
-  params = new vc::LawParams *[n + 1];
+  memory->create(cut_user, n + 1, n + 1, "pair:cut_user");
+  models = new vc::ContactModel *[n + 1];
   for (int i = 0; i <= n; i++) {
-    params[i] = new vc::LawParams[n + 1];
+    models[i] = new vc::ContactModel[n + 1];
     for (int j = 0; j <= n; j++) {
       setflag[i][j] = 0;
       Ein[i][j] = nuin[i][j] = 0.0;
+      cut_user[i][j] = -1.0;
     }
   }
   maxrad_dynamic.assign(n + 1, 0.0);
@@ -96,38 +102,53 @@ void PairViscontact::fail(const std::string &msg)
 void PairViscontact::settings(int narg, char **arg)
 {
   history_lost = false;    // a new pair_style line: the next init starts a fresh history fix
-  if (narg > 0)
-    fail(fmt::format("pair viscontact: pair_style viscontact takes no options, got {} (the "
-                     "cutoff follows the particle sizes, as pair granular's)", vc::quoted(arg[0])));
+  if (narg > 1)
+    fail("pair viscontact: pair_style viscontact takes at most one value, the cutoff CUT (> 0); "
+         "without it the cutoff follows the particle sizes, as pair granular's");
+  cut_global = -1.0;
+  if (narg == 1) {
+    const std::string err =
+        vc::parse_number("pair_style viscontact CUT", arg[0], vc::POSITIVE_DOMAIN, cut_global);
+    if (!err.empty()) fail("pair viscontact: " + err);
+  }
 }
 
-/* pair_coeff I J hertz/material E NU <law keywords>; the law keywords (damping LAW [p P] FORM
-   [end force|overlap] tangential TANG) are parsed by viscontact_keywords.h, shared with fix
-   viscontact/wall.  Every mistake: one error line naming the keyword and what is allowed. */
-void PairViscontact::parse_coeff(int narg, char **arg, vc::LawParams &lp, double &E, double &nu)
+/* pair_coeff I J NORMAL <keywords> [cutoff C]; the normal model and the law keywords are parsed
+   by viscontact_keywords.h, shared with fix viscontact/wall.  Every mistake: one error line
+   naming the keyword and what is allowed. */
+void PairViscontact::parse_coeff(int narg, char **arg, vc::ContactModel &m, double &E, double &nu,
+                                 double &cut)
 {
   std::vector<std::string> args(arg, arg + narg);
-  if (narg < 3 || args[2] != "hertz/material")
-    fail(fmt::format("pair viscontact: expected 'hertz/material E NU' after the two types, got "
-                     "{}", vc::quoted(narg < 3 ? "" : arg[2])));
-  if (narg < 5) fail("pair viscontact: hertz/material needs two values, E and NU");
-  std::string err = vc::parse_material("E", "nu", args[3], args[4], E, nu);
+  vc::NormalParams np;
+  size_t i = 2;
+  std::string err = vc::parse_normal(args, i, np, E, nu);
   if (!err.empty()) fail("pair viscontact: " + err);
 
   vc::LawKeywords kw;
-  size_t i = 5;
+  bool seen_cut = false;
+  cut = -1.0;
   while (i < args.size()) {
+    if (args[i] == "cutoff") {
+      if (seen_cut) fail("pair viscontact: cutoff given twice");
+      seen_cut = true;
+      if (i + 1 >= args.size()) fail("pair viscontact: cutoff needs a value C (> 0)");
+      err = vc::parse_number("cutoff C", args[i + 1], vc::POSITIVE_DOMAIN, cut);
+      if (!err.empty()) fail("pair viscontact: " + err);
+      i += 2;
+      continue;
+    }
     if (!kw.take(args, i, err))
-      fail(fmt::format("pair viscontact: unknown keyword {} (allowed after hertz/material E NU: "
-                       "damping LAW [p P] alpha A vref V [beta B] | c0 C [tau S], end force|overlap, "
-                       "tangential none|mindlin MU)", vc::quoted(args[i])));
+      fail(fmt::format("pair viscontact: unknown keyword {} (allowed after the normal model: "
+                       "damping, end, tangential, rolling, twisting, heat, cutoff)",
+                       vc::quoted(args[i])));
     if (!err.empty()) fail("pair viscontact: " + err);
   }
-  err = kw.finish();
+  err = kw.finish(np.kind);
   if (!err.empty()) fail("pair viscontact: " + err);
-  lp = kw.lp;
-  lp.Estar = vc::mix_Estar(E, nu, E, nu);
-  lp.Gstar = vc::mix_Gstar(E, nu, E, nu);
+  m = kw.model(np);
+  m.law.Estar = vc::mix_Estar(E, nu, E, nu);
+  m.law.Gstar = vc::mix_Gstar(E, nu, E, nu);
 }
 
 void PairViscontact::coeff(int narg, char **arg)
@@ -137,15 +158,16 @@ void PairViscontact::coeff(int narg, char **arg)
   int ilo, ihi, jlo, jhi;
   utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
   utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
-  vc::LawParams lp;
-  double E = 0.0, nu = 0.0;
-  parse_coeff(narg, arg, lp, E, nu);
+  vc::ContactModel m;
+  double E = 0.0, nu = 0.0, cut = -1.0;
+  parse_coeff(narg, arg, m, E, nu, cut);
   int count = 0;
   for (int i = ilo; i <= ihi; i++) {
     for (int j = MAX(jlo, i); j <= jhi; j++) {
-      params[i][j] = params[j][i] = lp;
+      models[i][j] = models[j][i] = m;
       Ein[i][j] = Ein[j][i] = E;
       nuin[i][j] = nuin[j][i] = nu;
+      cut_user[i][j] = cut_user[j][i] = cut;
       setflag[i][j] = 1;
       count++;
     }
@@ -167,7 +189,41 @@ void PairViscontact::init_style()
     fail("pair viscontact requires atom_style sphere (per-atom radius, rmass, omega, torque)");
   if (comm->ghost_velocity == 0) fail("pair viscontact requires 'comm_modify vel yes'");
 
-  viscontact::refuse_heat(lmp, "pair viscontact");
+  // heat area: all type pairs or none (as native), per-atom temperature and heatflow
+  const int n = atom->ntypes;
+  int nheat = 0, nset = 0;
+  layout_xi = layout_aprev = layout_roll = layout_twist = false;
+  beyond_contact = 0;
+  for (int i = 1; i <= n; i++) {
+    for (int j = i; j <= n; j++) {
+      if (!setflag[i][j]) continue;
+      const vc::ContactModel &m = models[i][j];
+      nset++;
+      if (m.heat.kind != vc::HeatKind::None) nheat++;
+      layout_xi = layout_xi || m.has_tangential_history();
+      layout_aprev = layout_aprev || m.rescale();
+      layout_roll = layout_roll || m.rolling.kind != vc::RollingKind::None;
+      layout_twist = layout_twist || m.twisting.kind != vc::TwistingKind::None;
+      if (m.beyond_contact()) beyond_contact = 1;
+    }
+  }
+  heat_on = nheat > 0;
+  if (heat_on && nheat != nset)
+    fail("pair viscontact: heat area must be given for every pair_coeff line or for none");
+  if (heat_on && (!atom->temperature_flag || !atom->heatflow_flag))
+    fail("pair viscontact: heat area needs per-atom temperature and heatflow (fix property/atom "
+         "temperature heatflow, integrated by fix heat/flow)");
+  if (!heat_on) viscontact::refuse_heat(lmp, "pair viscontact");
+  for (int i = 1; i <= n; i++)
+    for (int j = 1; j <= n; j++)
+      if (setflag[i][j]) models[i][j].setup(layout_xi, layout_aprev, layout_roll, layout_twist);
+  {
+    vc::ContactModel probe;
+    probe.setup(layout_xi, layout_aprev, layout_roll, layout_twist);
+    dnum = probe.history_size();
+    hsign.assign(dnum, 1.0);
+    probe.history_signs(hsign.data());
+  }
   if (history_lost)
     fail("pair viscontact: its contact-history fix " + std::string(HISTORY_ID) + " was deleted "
          "(unfix or plugin unload); give pair_style viscontact and its pair_coeff lines again to "
@@ -176,22 +232,20 @@ void PairViscontact::init_style()
   neighbor->add_request(this, NeighConst::REQ_SIZE);
   coeff_cache.assign(1 << COEFF_CACHE_BITS, CoeffCache());    // coefficients may have changed
 
-  // history is needed for friction and Jian's clock
-  need_history = 0;
-  const int n = atom->ntypes;
-  for (int i = 1; i <= n; i++)
-    for (int j = i; j <= n; j++)
-      if (setflag[i][j] && (params[i][j].friction || params[i][j].law == vc::Law::Jian))
-        need_history = 1;
+  // every contact keeps a history (touch flag, start time, dissipated energy, springs)
+  need_history = 1;
+  if (fix_history && fix_history->history_size() != dnum)
+    fail("pair viscontact: the pair_coeff lines changed the contact history layout (a rolling, "
+         "twisting or tangential spring added or removed); give pair_style viscontact again");
   if (need_history && fix_history == nullptr) {
     // one fixed ID, so that read_restart re-attaches the per-atom history whatever the
     // instance count of the run that wrote it
     const std::string id = HISTORY_ID;
     Fix *f = modify->get_fix_by_id(id);
     if (!f && modify->get_fix_by_id(DUMMY_ID))
-      f = modify->replace_fix(DUMMY_ID, id + " all VISCONTACT_HISTORY", 1);
+      f = modify->replace_fix(DUMMY_ID, fmt::format("{} all VISCONTACT_HISTORY {}", id, dnum), 1);
     else if (!f)
-      f = modify->add_fix(id + " all VISCONTACT_HISTORY");
+      f = modify->add_fix(fmt::format("{} all VISCONTACT_HISTORY {}", id, dnum));
     fix_history = dynamic_cast<FixViscontactHistory *>(f);
     if (!fix_history) fail(fmt::format("pair viscontact: fix ID {} is taken by another fix", id));
     if (fix_history->pair && fix_history->pair != this)
@@ -251,86 +305,143 @@ void PairViscontact::check_radii() const
   }
 }
 
+/* Mixing of an unset pair I-J (native pair granular's rules, except G* with NULL KT): the
+   sub-model kinds must agree, E* and G* from both materials, every other number the geometric
+   mean; then the cutoff (native's automatic rule, extended by jkr's pull-off distance). */
 double PairViscontact::init_one(int i, int j)
 {
   if (setflag[i][j] == 0) {
-    const vc::LawParams &a = params[i][i], &b = params[j][j];
-    if (a.law != b.law || a.p != b.p || a.by_alpha != b.by_alpha || a.friction != b.friction)
-      fail(fmt::format("pair viscontact: types {} and {} use different laws; give pair_coeff {} {} "
-                       "explicitly", i, j, i, j));
-    vc::LawParams m = a;
+    const vc::ContactModel &a = models[i][i], &b = models[j][j];
+    std::string diff;
+    if (a.normal.kind != b.normal.kind) diff = "normal model";
+    else if (a.law.law != b.law.law || a.law.p != b.law.p) diff = "damping law";
+    else if (a.law.by_alpha != b.law.by_alpha) diff = "damping form (alpha or c0)";
+    else if (a.tangential.kind != b.tangential.kind) diff = "tangential model";
+    else if (a.rolling.kind != b.rolling.kind) diff = "rolling model";
+    else if (a.twisting.kind != b.twisting.kind) diff = "twisting model";
+    else if (a.heat.kind != b.heat.kind) diff = "heat model";
+    if (!diff.empty())
+      fail(fmt::format("pair viscontact: types {} and {} use a different {}; give pair_coeff {} {} "
+                       "explicitly", i, j, diff, i, j));
+    vc::ContactModel m = a;
     auto geo = [](double x, double y) { return std::sqrt(x * y); };
-    m.alpha = geo(a.alpha, b.alpha);
-    m.vref = geo(a.vref, b.vref);
-    m.beta = geo(a.beta, b.beta);
-    m.c0 = geo(a.c0, b.c0);
-    m.tau = geo(a.tau, b.tau);
-    m.mu = geo(a.mu, b.mu);
-    m.clamp = a.clamp || b.clamp;    // native: the larger limit_damping
-    m.Estar = vc::mix_Estar(Ein[i][i], nuin[i][i], Ein[j][j], nuin[j][j]);
-    m.Gstar = vc::mix_Gstar(Ein[i][i], nuin[i][i], Ein[j][j], nuin[j][j]);
-    params[i][j] = m;
+    vc::LawParams &l = m.law;
+    l.alpha = geo(a.law.alpha, b.law.alpha);
+    l.vref = geo(a.law.vref, b.law.vref);
+    l.beta = geo(a.law.beta, b.law.beta);
+    l.c0 = geo(a.law.c0, b.law.c0);
+    l.tau = geo(a.law.tau, b.law.tau);
+    l.mu = geo(a.law.mu, b.law.mu);
+    l.clamp = a.law.clamp || b.law.clamp;    // native: the larger limit_damping
+    l.Estar = vc::mix_Estar(Ein[i][i], nuin[i][i], Ein[j][j], nuin[j][j]);
+    l.Gstar = vc::mix_Gstar(Ein[i][i], nuin[i][i], Ein[j][j], nuin[j][j]);
+    m.normal.W = geo(a.normal.W, b.normal.W);
+    m.tangential.kt_null = a.tangential.kt_null || b.tangential.kt_null;
+    m.tangential.kt = m.tangential.kt_null ? 0.0 : geo(a.tangential.kt, b.tangential.kt);
+    m.tangential.xgamma = geo(a.tangential.xgamma, b.tangential.xgamma);
+    m.tangential.mu = geo(a.tangential.mu, b.tangential.mu);
+    m.rolling.k = geo(a.rolling.k, b.rolling.k);
+    m.rolling.gamma = geo(a.rolling.gamma, b.rolling.gamma);
+    m.rolling.mu = geo(a.rolling.mu, b.rolling.mu);
+    m.twisting.k = geo(a.twisting.k, b.twisting.k);
+    m.twisting.gamma = geo(a.twisting.gamma, b.twisting.gamma);
+    m.twisting.mu = geo(a.twisting.mu, b.twisting.mu);
+    m.heat.k = geo(a.heat.k, b.heat.k);
+    m.setup(layout_xi, layout_aprev, layout_roll, layout_twist);
+    models[i][j] = m;
+    cut_user[i][j] = MAX(cut_user[i][i], cut_user[j][j]);
   }
-  params[j][i] = params[i][j];
+  models[j][i] = models[i][j];
+  cut_user[j][i] = cut_user[i][j];
 
-  // cutoff: the contact distance of the largest spheres that can meet (SPEC 10.7)
+  if (cut_user[i][j] > 0.0) return cut_user[i][j];
+  if (cut_global > 0.0) return cut_global;
+  // cutoff: the reach of the largest spheres that can meet (SPEC 10.7)
+  const vc::ContactModel &m = models[i][j];
+  auto reach = [&m](double r1, double r2) {
+    return r1 + r2 + m.pulloff_distance(r1 * r2 / (r1 + r2));
+  };
   const std::vector<double> &d = maxrad_dynamic, &f = maxrad_frozen;
-  if ((d[i] > 0.0 && d[j] > 0.0) || (d[i] > 0.0 && f[j] > 0.0) || (f[i] > 0.0 && d[j] > 0.0))
-    return MAX(d[i] + d[j], MAX(f[i] + d[j], d[i] + f[j]));
+  if ((d[i] > 0.0 && d[j] > 0.0) || (d[i] > 0.0 && f[j] > 0.0) || (f[i] > 0.0 && d[j] > 0.0)) {
+    double cut = 0.0;
+    if (d[i] > 0.0 && d[j] > 0.0) cut = MAX(cut, reach(d[i], d[j]));
+    if (f[i] > 0.0 && d[j] > 0.0) cut = MAX(cut, reach(f[i], d[j]));
+    if (d[i] > 0.0 && f[j] > 0.0) cut = MAX(cut, reach(d[i], f[j]));
+    return cut;
+  }
   // no sphere of i or j yet, nor announced: the largest of all, so that binning never sees 0
   double cut = 0.0;
   for (int t = 1; t <= atom->ntypes; t++) cut = MAX(cut, 2.0 * MAX(d[t], f[t]));
   return cut;
 }
 
-namespace {
-/* The geometry and kinematics of one touching sphere pair (i, j), shared by compute() and
-   single(): dx = x_i - x_j with rsq = |dx|^2 < (r_i + r_j)^2. */
-struct PairContact {
-  double r, rinv, delta;   // distance, 1 / distance, overlap r_i + r_j - r [m]
-  double n[3];             // unit normal from j to i
-  double vtr[3];           // relative tangential velocity of the contact point [m/s]
-  double ddelta;           // overlap rate (> 0 approaching) [m/s]
-  double meff, reff;       // m* [kg], R* [m]
-};
-
-inline PairContact pair_contact(const double dx[3], double rsq, double radi, double radj,
-                                const double vi[3], const double vj[3], const double wi[3],
-                                const double wj[3], double meff)
+/* The geometry and kinematics of the pair (i, j), dx = x_i - x_j, for the contact step. */
+void PairViscontact::pair_geometry(int i, int j, const double dx[3], double rsq, double meff,
+                                   vc::ContactGeometry &g) const
 {
-  PairContact c;
-  const double radsum = radi + radj;
-  c.r = std::sqrt(rsq);
-  c.rinv = 1.0 / c.r;
-  c.delta = radsum - c.r;
-  for (int k = 0; k < 3; k++) c.n[k] = dx[k] * c.rinv;
-  const double vr[3] = {vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]};
-  const double wr[3] = {radi * wi[0] + radj * wj[0], radi * wi[1] + radj * wj[1],
-                        radi * wi[2] + radj * wj[2]};
-  c.ddelta = -vc::relative_tangential_velocity(vr, wr, c.n, c.vtr);
-  c.meff = meff;
-  c.reff = radi * radj / radsum;
-  return c;
+  double **v = atom->v, **omega = atom->omega;
+  const double radi = atom->radius[i], radj = atom->radius[j];
+  const double r = std::sqrt(rsq), rinv = 1.0 / r;
+  for (int k = 0; k < 3; k++) {
+    g.n[k] = dx[k] * rinv;
+    g.vr[k] = v[i][k] - v[j][k];
+    g.omega_i[k] = omega[i][k];
+    g.omega_j[k] = omega[j][k];
+  }
+  g.delta = radi + radj - r;
+  g.r_i = radi;
+  g.r_j = radj;
+  g.reff = radi * radj / (radi + radj);
+  g.meff = meff;
+  g.dt = update->dt;
+  g.t_now = vc::time_now(update);
+  g.wall = false;
+  g.coeffs = nullptr;
+  if (heat_on) {
+    g.T_i = atom->temperature[i];
+    g.T_j = atom->temperature[j];
+  }
 }
 
-}    // namespace
+/* Per-contact k_H, c0, tau depend on (types, m*, R*) only: a small direct-mapped cache saves
+   the powers of the alpha form for the few distinct contacts of most packings. */
+const vc::ContactCoeffs &PairViscontact::coeffs_of(int i, int j, int itype, int jtype,
+                                                   double meff, double reff)
+{
+  uint64_t bm, br;
+  std::memcpy(&bm, &meff, sizeof bm);
+  std::memcpy(&br, &reff, sizeof br);
+  const uint64_t h = (bm ^ (br * 0x9E3779B97F4A7C15ULL) ^ ((uint64_t) (itype * 131 + jtype)
+                      * 0xC2B2AE3D27D4EB4FULL)) * 0x165667B19E3779F9ULL;
+  CoeffCache &e = coeff_cache[h >> (64 - COEFF_CACHE_BITS)];
+  if (e.itype != itype || e.jtype != jtype || e.meff != meff || e.reff != reff) {
+    e.cc = vc::contact_coeffs(models[itype][jtype].law, meff, reff);
+    if (!vc::coeffs_finite(e.cc))
+      error->one(FLERR, fmt::format("pair viscontact: the contact of atoms {} and {} (types "
+                 "{} {}) has {}; the pair_coeff values are too extreme for these sizes and "
+                 "masses in this units style", atom->tag[i], atom->tag[j], itype, jtype,
+                 vc::describe_coeffs(e.cc)));
+    e.itype = itype;
+    e.jtype = jtype;
+    e.meff = meff;
+    e.reff = reff;
+  }
+  return e.cc;
+}
 
 void PairViscontact::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
 
-  double **x = atom->x, **v = atom->v, **f = atom->f;
-  double **omega = atom->omega, **torque = atom->torque;
+  double **x = atom->x, **f = atom->f, **torque = atom->torque;
   const double *radius = atom->radius, *rmass = atom->rmass;
   const int *type = atom->type;
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
-  const double dt = update->dt;
-  const double t_now = vc::time_now(update);
   // forces of a run's setup must not advance the history (as pair granular)
   const bool history_update = !update->setupflag;
   FixViscontactHistory *fh = (fix_history && fix_history->ready()) ? fix_history : nullptr;
-  if (need_history && !fh) fail("pair viscontact: contact history is not set up (internal error)");
+  if (!fh) fail("pair viscontact: contact history is not set up (internal error)");
   const int *mask = atom->mask;
   if (neighbor->ago == 0 || update->firststep != radii_checked_run[0] ||
       update->laststep != radii_checked_run[1]) {
@@ -345,12 +456,15 @@ void PairViscontact::compute(int eflag, int vflag)
       comm->forward_comm(this);
     }
   }
-
-  vc::ContactCoeffs cc{0.0, 0.0, 0.0};
+  double *heatflow = heat_on ? atom->heatflow : nullptr;
+  EnergyTally *tally = energy_begin();
 
   const int inum = list->inum;
   const int *ilist = list->ilist, *numneigh = list->numneigh;
   int **firstneigh = list->firstneigh;
+  vc::ContactGeometry g;
+  vc::ContactResult res;
+  double scratch[MAX_HISTORY];
 
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
@@ -358,8 +472,8 @@ void PairViscontact::compute(int eflag, int vflag)
     const double radi = radius[i];
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
-    char *fl = fh ? fh->flags_of(i) : nullptr;
-    double *hv = fh ? fh->values_of(i) : nullptr;
+    char *fl = fh->flags_of(i);
+    double *hv = fh->values_of(i);
 
     for (int jj = 0; jj < jnum; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
@@ -368,123 +482,73 @@ void PairViscontact::compute(int eflag, int vflag)
       const double dx[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
       const double rsq = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
       const double radsum = radi + radj;
-      double *h = hv ? &hv[vc::HISTORY_SIZE * jj] : nullptr;
-      if (rsq >= radsum * radsum) {
-        // apart: the contact (if any) has ended; a new one starts afresh
-        if (fl && history_update && fl[jj]) {
+      double *h = &hv[(size_t) dnum * jj];
+      const vc::ContactModel &m = models[itype][jtype];
+      if (rsq >= radsum * radsum &&
+          !m.touching(rsq, radsum, radi * radj / radsum, fl[jj] != 0)) {
+        // apart (jkr: beyond pull-off): the contact (if any) has ended; a new one starts afresh
+        if (history_update && fl[jj]) {
           fl[jj] = 0;
-          for (int k = 0; k < vc::HISTORY_SIZE; k++) h[k] = 0.0;
+          for (int k = 0; k < dnum; k++) h[k] = 0.0;
         }
         continue;
       }
-      const vc::LawParams &lp = params[itype][jtype];
-      const PairContact c = pair_contact(dx, rsq, radi, radj, v[i], v[j], omega[i], omega[j],
-                                         masses.pair_meff(i, j, rmass, mask));
-      const double delta = c.delta, ddelta = c.ddelta, meff = c.meff, reff = c.reff;
-      const double *n = c.n, *vtr = c.vtr;
-      {
-        // per-contact coefficients depend on (types, m*, R*) only: a small direct-mapped cache
-        // saves the powers of the alpha form for the few distinct contacts of most packings
-        uint64_t bm, br;
-        std::memcpy(&bm, &meff, sizeof bm);
-        std::memcpy(&br, &reff, sizeof br);
-        const uint64_t h = (bm ^ (br * 0x9E3779B97F4A7C15ULL) ^ ((uint64_t) (itype * 131 + jtype)
-                            * 0xC2B2AE3D27D4EB4FULL)) * 0x165667B19E3779F9ULL;
-        CoeffCache &e = coeff_cache[h >> (64 - COEFF_CACHE_BITS)];
-        if (e.itype != itype || e.jtype != jtype || e.meff != meff || e.reff != reff) {
-          e.cc = vc::contact_coeffs(lp, meff, reff);
-          if (!vc::coeffs_finite(e.cc))
-            error->one(FLERR, fmt::format("pair viscontact: the contact of atoms {} and {} (types "
-                       "{} {}) has {}; the pair_coeff values are too extreme for these sizes and "
-                       "masses in this units style", atom->tag[i], atom->tag[j], itype, jtype,
-                       vc::describe_coeffs(e.cc)));
-          e.itype = itype;
-          e.jtype = jtype;
-          e.meff = meff;
-          e.reff = reff;
-        }
-        cc = e.cc;
+      pair_geometry(i, j, dx, rsq, masses.pair_meff(i, j, rmass, mask), g);
+      g.coeffs = &coeffs_of(i, j, itype, jtype, g.meff, g.reff);
+      // a contact not yet stored is evaluated on a fresh copy in a run's setup
+      double *hc = h;
+      if (!fl[jj]) {
+        if (!history_update) hc = scratch;
+        hc[0] = 0.0;
       }
-
-      // history: this step's copy (written back only outside a run's setup)
-      double local[vc::HISTORY_SIZE] = {0.0, 0.0, 0.0, t_now};
-      double *hc = local;
-      if (h) {
-        if (fl[jj]) {
-          for (int k = 0; k < vc::HISTORY_SIZE; k++) local[k] = h[k];
-        } else {
-          local[3] = vc::contact_start_time(t_now, dt, delta, ddelta);
-        }
-        if (history_update) {
-          for (int k = 0; k < vc::HISTORY_SIZE; k++) h[k] = local[k];
-          fl[jj] = 1;
-          hc = h;
-        }
-      }
-      // >= 0 even if the user resets the simulation time (reset_timestep ... time) mid-contact
-      const double t_contact = vc::contact_clock(t_now, hc[3]);
-
-      const double fn = vc::clamp_normal(
-          vc::normal_force(delta, ddelta, t_contact, cc.k, cc.c0, cc.tau, lp.p), lp.clamp);
-      if (!std::isfinite(fn))
+      m.evaluate(g, hc, history_update, res);
+      if (history_update) fl[jj] = 1;
+      if (!std::isfinite(res.fn))
         error->one(FLERR, fmt::format("pair viscontact: the normal force between atoms {} and {} "
-                   "is not finite (overlap {}, rate {}); check the time step and the pair_coeff "
-                   "values", atom->tag[i], atom->tag[j], delta, ddelta));
-      double ft[3] = {0.0, 0.0, 0.0};
-      if (lp.friction) {
-        const double kt = vc::mindlin_stiffness(lp.Gstar, reff, delta);
-        vc::mindlin_tangential(hc, n, vtr, dt, kt, lp.mu * std::fabs(fn), ft, history_update);
-      }
+                   "is not finite (overlap {}); check the time step and the pair_coeff values",
+                   atom->tag[i], atom->tag[j], g.delta));
 
-      const double fx = fn * n[0] + ft[0];
-      const double fy = fn * n[1] + ft[1];
-      const double fz = fn * n[2] + ft[2];
-      double ti[3], tj[3];
-      vc::tangential_torque(n, ft, radi - 0.5 * delta, ti);
-      f[i][0] += fx;
-      f[i][1] += fy;
-      f[i][2] += fz;
-      torque[i][0] += ti[0];
-      torque[i][1] += ti[1];
-      torque[i][2] += ti[2];
+      const double *F = res.force;
+      f[i][0] += F[0];
+      f[i][1] += F[1];
+      f[i][2] += F[2];
+      torque[i][0] += res.torque_i[0];
+      torque[i][1] += res.torque_i[1];
+      torque[i][2] += res.torque_i[2];
+      if (heatflow) heatflow[i] += res.heat;
       if (newton_pair || j < nlocal) {
-        vc::tangential_torque(n, ft, radj - 0.5 * delta, tj);
-        f[j][0] -= fx;
-        f[j][1] -= fy;
-        f[j][2] -= fz;
-        torque[j][0] += tj[0];
-        torque[j][1] += tj[1];
-        torque[j][2] += tj[2];
+        f[j][0] -= F[0];
+        f[j][1] -= F[1];
+        f[j][2] -= F[2];
+        torque[j][0] += res.torque_j[0];
+        torque[j][1] += res.torque_j[1];
+        torque[j][2] += res.torque_j[2];
+        if (heatflow) heatflow[j] -= res.heat;
       }
-      if (evflag) ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fx, fy, fz, dx[0], dx[1], dx[2]);
+      if (tally && history_update) tally->add_pair(i, j, nlocal, newton_pair, res);
+      if (evflag) ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, F[0], F[1], F[2], dx[0], dx[1], dx[2]);
     }
   }
+  if (tally) energy_end(tally, history_update);
 }
 
-/* One pair's forces for compute pair/local: returns 0 (no energy), fforce = F_n / r (so that
-   "force" = F_n, the clamped normal force), svector = F_t on i (x, y, z) and the overlap.  The
-   tangential force comes from the stored history as it is (not advanced). */
+/* One pair for compute pair/local: returns 0 (no energy), fforce = F_ne / r (the elastic normal
+   force, as native), svector = F_t (3), |F_t|, F_R (3), |F_R|, twisting torque, x_i - x_j (3),
+   the dissipated power, the contact's accumulated dissipated energy.  The history is used as
+   stored (not advanced). */
 double PairViscontact::single(int i, int j, int itype, int jtype, double rsq, double /*factor_coul*/,
                               double /*factor_lj*/, double &fforce)
 {
   for (int k = 0; k < single_extra; k++) svector[k] = 0.0;
   fforce = 0.0;
-  double **x = atom->x, **v = atom->v, **omega = atom->omega;
+  double **x = atom->x;
   const double radi = atom->radius[i], radj = atom->radius[j];
   const double radsum = radi + radj;
-  if (rsq >= radsum * radsum) return 0.0;
-  const vc::LawParams &lp = params[itype][jtype];
-  const double dx[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
-  const PairContact c = pair_contact(dx, rsq, radi, radj, v[i], v[j], omega[i], omega[j],
-                                     masses.pair_meff(i, j, atom->rmass, atom->mask));
-  const double delta = c.delta, ddelta = c.ddelta, reff = c.reff, rinv = c.rinv;
-  const double *n = c.n, *vtr = c.vtr;
-  const vc::ContactCoeffs cc = vc::contact_coeffs(lp, c.meff, reff);
-  const double dt = update->dt;
-  const double t_now = vc::time_now(update);
+  const vc::ContactModel &m = models[itype][jtype];
 
   // this contact's history in the pair's neighbour list (i's entry for j), if any
-  double hist[vc::HISTORY_SIZE] = {0.0, 0.0, 0.0, vc::contact_start_time(t_now, dt, delta, ddelta)};
+  double hist[MAX_HISTORY] = {0.0};
+  bool touched = false;
   if (fix_history && fix_history->ready()) {
     const int *jlist = list->firstneigh[i];
     const int jnum = list->numneigh[i];
@@ -492,29 +556,37 @@ double PairViscontact::single(int i, int j, int itype, int jtype, double rsq, do
     const double *hv = fix_history->values_of(i);
     for (int jj = 0; jj < jnum; jj++) {
       if ((jlist[jj] & NEIGHMASK) == j && fl[jj]) {
-        for (int k = 0; k < vc::HISTORY_SIZE; k++) hist[k] = hv[vc::HISTORY_SIZE * jj + k];
+        for (int k = 0; k < dnum; k++) hist[k] = hv[(size_t) dnum * jj + k];
+        touched = true;
         break;
       }
     }
   }
-  const double fn = vc::clamp_normal(
-      vc::normal_force(delta, ddelta, vc::contact_clock(t_now, hist[3]), cc.k, cc.c0, cc.tau, lp.p),
-      lp.clamp);
-  double ft[3] = {0.0, 0.0, 0.0};
-  if (lp.friction)
-    vc::mindlin_tangential(hist, n, vtr, dt, vc::mindlin_stiffness(lp.Gstar, reff, delta),
-                           lp.mu * std::fabs(fn), ft, false);
-  fforce = fn * rinv;
-  svector[0] = ft[0];
-  svector[1] = ft[1];
-  svector[2] = ft[2];
-  svector[3] = delta;
+  if (!m.touching(rsq, radsum, radi * radj / radsum, touched)) return 0.0;
+  const double dx[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+  vc::ContactGeometry g;
+  vc::ContactResult res;
+  pair_geometry(i, j, dx, rsq, masses.pair_meff(i, j, atom->rmass, atom->mask), g);
+  const double stored = hist[m.history_slots().energy];
+  m.evaluate(g, hist, false, res);
+  fforce = res.fne / std::sqrt(rsq);
+  for (int k = 0; k < 3; k++) {
+    svector[k] = res.ft[k];
+    svector[4 + k] = res.fr[k];
+    svector[9 + k] = dx[k];
+  }
+  svector[3] = std::sqrt(res.ft[0] * res.ft[0] + res.ft[1] * res.ft[1] + res.ft[2] * res.ft[2]);
+  svector[7] = std::sqrt(res.fr[0] * res.fr[0] + res.fr[1] * res.fr[1] + res.fr[2] * res.fr[2]);
+  svector[8] = res.tau_twist;
+  svector[12] = res.power;
+  svector[13] = stored;
   return 0.0;
 }
 
 /* ---- restart: the coefficients as given, per set type pair ---- */
 
-static constexpr int NRESTART = 13;
+static constexpr int NRESTART = 30;
+static constexpr int RESTART_VERSION = 2;
 
 void PairViscontact::write_restart(FILE *fp)
 {
@@ -523,12 +595,19 @@ void PairViscontact::write_restart(FILE *fp)
     for (int j = i; j <= atom->ntypes; j++) {
       fwrite(&setflag[i][j], sizeof(int), 1, fp);
       if (setflag[i][j]) {
-        const vc::LawParams &lp = params[i][j];
-        const double buf[NRESTART] = {(double) static_cast<int>(lp.law), lp.p,
-                                      lp.by_alpha ? 1.0 : 0.0, lp.alpha, lp.vref, lp.beta, lp.c0,
-                                      lp.tau, lp.clamp ? 1.0 : 0.0, lp.friction ? 1.0 : 0.0,
-                                      lp.mu, Ein[i][j], nuin[i][j]};
+        const vc::ContactModel &m = models[i][j];
+        const vc::LawParams &lp = m.law;
+        const double buf[NRESTART] = {
+            (double) static_cast<int>(lp.law), lp.p, lp.by_alpha ? 1.0 : 0.0, lp.alpha, lp.vref,
+            lp.beta, lp.c0, lp.tau, lp.clamp ? 1.0 : 0.0, lp.friction ? 1.0 : 0.0, lp.mu,
+            Ein[i][j], nuin[i][j], (double) static_cast<int>(m.normal.kind), m.normal.W,
+            (double) static_cast<int>(m.tangential.kind), m.tangential.kt,
+            m.tangential.kt_null ? 1.0 : 0.0, m.tangential.xgamma, m.tangential.mu,
+            (double) static_cast<int>(m.rolling.kind), m.rolling.k, m.rolling.gamma, m.rolling.mu,
+            (double) static_cast<int>(m.twisting.kind), m.twisting.k, m.twisting.gamma,
+            m.twisting.mu, (double) static_cast<int>(m.heat.kind), m.heat.k};
         fwrite(buf, sizeof(double), NRESTART, fp);
+        fwrite(&cut_user[i][j], sizeof(double), 1, fp);
       }
     }
   }
@@ -544,10 +623,11 @@ void PairViscontact::read_restart(FILE *fp)
       if (me == 0) utils::sfread(FLERR, &setflag[i][j], sizeof(int), 1, fp, nullptr, error);
       MPI_Bcast(&setflag[i][j], 1, MPI_INT, 0, world);
       if (setflag[i][j]) {
-        double buf[NRESTART];
-        if (me == 0) utils::sfread(FLERR, buf, sizeof(double), NRESTART, fp, nullptr, error);
-        MPI_Bcast(buf, NRESTART, MPI_DOUBLE, 0, world);
-        vc::LawParams lp;
+        double buf[NRESTART + 1];
+        if (me == 0) utils::sfread(FLERR, buf, sizeof(double), NRESTART + 1, fp, nullptr, error);
+        MPI_Bcast(buf, NRESTART + 1, MPI_DOUBLE, 0, world);
+        vc::ContactModel m;
+        vc::LawParams &lp = m.law;
         lp.law = static_cast<vc::Law>((int) buf[0]);
         lp.p = buf[1];
         lp.by_alpha = buf[2] != 0.0;
@@ -563,23 +643,101 @@ void PairViscontact::read_restart(FILE *fp)
         nuin[i][j] = nuin[j][i] = buf[12];
         lp.Estar = vc::mix_Estar(buf[11], buf[12], buf[11], buf[12]);
         lp.Gstar = vc::mix_Gstar(buf[11], buf[12], buf[11], buf[12]);
-        params[i][j] = params[j][i] = lp;
+        m.normal.kind = static_cast<vc::NormalKind>((int) buf[13]);
+        m.normal.W = buf[14];
+        m.tangential.kind = static_cast<vc::TangentialKind>((int) buf[15]);
+        m.tangential.kt = buf[16];
+        m.tangential.kt_null = buf[17] != 0.0;
+        m.tangential.xgamma = buf[18];
+        m.tangential.mu = buf[19];
+        m.rolling.kind = static_cast<vc::RollingKind>((int) buf[20]);
+        m.rolling.k = buf[21];
+        m.rolling.gamma = buf[22];
+        m.rolling.mu = buf[23];
+        m.twisting.kind = static_cast<vc::TwistingKind>((int) buf[24]);
+        m.twisting.k = buf[25];
+        m.twisting.gamma = buf[26];
+        m.twisting.mu = buf[27];
+        m.heat.kind = static_cast<vc::HeatKind>((int) buf[28]);
+        m.heat.k = buf[29];
+        m.setup();
+        models[i][j] = models[j][i] = m;
+        cut_user[i][j] = cut_user[j][i] = buf[NRESTART];
       }
     }
   }
 }
 
-/* One int (0), kept so that restart files of earlier versions stay readable. */
+/* The format version and the global cutoff. */
 void PairViscontact::write_restart_settings(FILE *fp)
 {
-  const int reserved = 0;
-  fwrite(&reserved, sizeof(int), 1, fp);
+  const int version = RESTART_VERSION;
+  fwrite(&version, sizeof(int), 1, fp);
+  fwrite(&cut_global, sizeof(double), 1, fp);
 }
 
 void PairViscontact::read_restart_settings(FILE *fp)
 {
-  int reserved = 0;
-  if (comm->me == 0) utils::sfread(FLERR, &reserved, sizeof(int), 1, fp, nullptr, error);
+  int version = 0;
+  if (comm->me == 0) utils::sfread(FLERR, &version, sizeof(int), 1, fp, nullptr, error);
+  MPI_Bcast(&version, 1, MPI_INT, 0, world);
+  if (version != RESTART_VERSION)
+    fail("pair viscontact: this restart file was written by an older viscontact (contact model "
+         "format 1); give pair_style viscontact and its pair_coeff lines again after read_restart");
+  if (comm->me == 0) utils::sfread(FLERR, &cut_global, sizeof(double), 1, fp, nullptr, error);
+  MPI_Bcast(&cut_global, 1, MPI_DOUBLE, 0, world);
+}
+
+/* ---- energy accounting (on when a compute viscontact/energy asks for it) ---- */
+
+PairViscontact::EnergyTally *PairViscontact::energy_begin()
+{
+  if (!energy_requested) return nullptr;
+  const int nall = atom->nlocal + atom->nghost;
+  tally_.diss.assign((size_t) nall * vc::NDISS, 0.0);
+  tally_.elastic.assign((size_t) nall * vc::NELASTIC, 0.0);
+  return &tally_;
+}
+
+void PairViscontact::EnergyTally::add_pair(int i, int j, int nlocal, int newton_pair,
+                                           const vc::ContactResult &r)
+{
+  for (int side = 0; side < 2; side++) {
+    const int a = side ? j : i;
+    if (side && !(newton_pair || j < nlocal)) break;
+    for (int k = 0; k < vc::NDISS; k++) diss[(size_t) a * vc::NDISS + k] += 0.5 * r.dissipated[k];
+    for (int k = 0; k < vc::NELASTIC; k++)
+      elastic[(size_t) a * vc::NELASTIC + k] += 0.5 * r.elastic[k];
+  }
+}
+
+void PairViscontact::energy_end(EnergyTally *t, bool advance)
+{
+  if (force->newton_pair) {
+    comm_reverse = vc::NDISS + vc::NELASTIC;
+    comm->reverse_comm(this);
+  }
+  fix_history->add_energy(t->diss.data(), t->elastic.data(), advance);
+}
+
+int PairViscontact::pack_reverse_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  for (int i = first; i < first + n; i++) {
+    for (int k = 0; k < vc::NDISS; k++) buf[m++] = tally_.diss[(size_t) i * vc::NDISS + k];
+    for (int k = 0; k < vc::NELASTIC; k++) buf[m++] = tally_.elastic[(size_t) i * vc::NELASTIC + k];
+  }
+  return m;
+}
+
+void PairViscontact::unpack_reverse_comm(int n, int *list, double *buf)
+{
+  int m = 0;
+  for (int k = 0; k < n; k++) {
+    const int i = list[k];
+    for (int c = 0; c < vc::NDISS; c++) tally_.diss[(size_t) i * vc::NDISS + c] += buf[m++];
+    for (int c = 0; c < vc::NELASTIC; c++) tally_.elastic[(size_t) i * vc::NELASTIC + c] += buf[m++];
+  }
 }
 
 /* Rigid-body masses to ghost atoms (EffectiveMass). */
@@ -597,5 +755,6 @@ void PairViscontact::unpack_forward_comm(int n, int first, double *buf)
 double PairViscontact::memory_usage()
 {
   const double n = atom->ntypes + 1;
-  return n * n * (sizeof(vc::LawParams) + 2 * sizeof(double) + sizeof(int) + sizeof(double));
+  return n * n * (sizeof(vc::ContactModel) + 3 * sizeof(double) + sizeof(int) + sizeof(double)) +
+      (double) (tally_.diss.capacity() + tally_.elastic.capacity()) * sizeof(double);
 }

@@ -1,10 +1,15 @@
-/* pair_style viscontact: Hertz spring + the viscoelastic damping laws of viscontact
-   (LH Ts KK Li Hunt Jian power), clamp or attraction, Mindlin friction with per-contact history.
+/* pair_style viscontact: a complete granular contact model (normal hertz/material, dmt, jkr;
+   the viscoelastic damping laws of viscontact; tangential, rolling, twisting, heat sub-models
+   as LAMMPS pair granular's) per type pair; the contact step is viscontact_model.h.
 
-     pair_style viscontact
-     pair_coeff I J hertz/material E NU damping LAW [p P] FORM [end force|overlap] tangential TANG
-       FORM = alpha A vref V [beta B]  |  c0 C [tau S]        (beta / tau: Jian only)
-       TANG = none | mindlin MU
+     pair_style viscontact [CUT]
+     pair_coeff I J NORMAL damping LAW [p P] FORM [end force|overlap] tangential TMODEL
+                [rolling sds KR GAMMAR MUR] [twisting marshall | twisting sds KT GAMMAT MUT]
+                [heat area K] [cutoff C]
+       NORMAL = hertz/material E NU | dmt E NU W | jkr E NU W
+       FORM   = alpha A vref V [beta B]  |  c0 C [tau S]        (beta / tau: Jian only)
+       TMODEL = none | linear_nohistory XGAMMA MU | linear_history KT XGAMMA MU
+              | mindlin[_rescale][/force] KT|NULL XGAMMA MU | mindlin MU
 
    The force law is viscontact_contact.h; SPEC sections 9-10 have the physics, the user's
    reference is docs/pair_viscontact.md.  Cutoff (SPEC 10.7, as pair granular): per type the
@@ -18,6 +23,7 @@
 #include "pair.h"
 #include "viscontact_contact.h"
 #include "viscontact_lammps.h"
+#include "viscontact_model.h"
 
 #include <vector>
 
@@ -39,6 +45,13 @@ class PairViscontact : public Pair {
   void read_restart_settings(FILE *) override;
   double memory_usage() override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
+  int pack_reverse_comm(int, int, double *) override;
+  void unpack_reverse_comm(int, int *, double *) override;
+
+  /// Called by compute viscontact/energy at init: from now on each step's dissipated and elastic
+  /// energies are tallied per atom (half to each partner) into the history fix.
+  void request_energy() { energy_requested = true; }
+  class FixViscontactHistory *history_fix() const { return fix_history; }
   void unpack_forward_comm(int, int, double *) override;
 
   /// Called by the history fix when it is deleted (unfix, plugin unload): the next run stops
@@ -49,10 +62,21 @@ class PairViscontact : public Pair {
   /// false when no pair_coeff I I was given.
   bool type_material(int itype, double &E, double &nu) const;
   /// Parsed coefficients of a type pair (after init: mixed ones too).
-  const viscontact::LawParams &law_params(int itype, int jtype) const { return params[itype][jtype]; }
+  const viscontact::LawParams &law_params(int itype, int jtype) const { return models[itype][jtype].law; }
+  /// The contact model of a type pair (after init: mixed ones too).
+  const viscontact::ContactModel &contact_model(int itype, int jtype) const { return models[itype][jtype]; }
+  /// The type pair's model as given by pair_coeff I I (normal kind and W, for the wall fix).
+  const viscontact::ContactModel &type_model(int itype) const { return models[itype][itype]; }
+  /// History values per contact (the largest model's) and their orientation-flip signs.
+  int history_size() const { return dnum; }
+  const std::vector<double> &history_signs() const { return hsign; }
 
  protected:
-  viscontact::LawParams **params;    // [ntypes+1][ntypes+1]
+  viscontact::ContactModel **models;    // [ntypes+1][ntypes+1]
+  double **cut_user;                 // `cutoff C` per type pair (-1: none)
+  double cut_global;                 // pair_style viscontact CUT (-1: none)
+  int dnum;                          // history values per contact
+  std::vector<double> hsign;         // their signs when i and j swap
   double **Ein, **nuin;              // E and nu as given for (i, j)
   std::vector<double> maxrad_dynamic;    // per type: largest radius of moving atoms (cutoff)
   std::vector<double> maxrad_frozen;     // per type: largest radius of frozen atoms
@@ -69,10 +93,27 @@ class PairViscontact : public Pair {
   bigint radii_checked_run[2];    // first and last step of the run whose radii were checked
   class FixViscontactHistory *fix_history;
 
+  static constexpr int MAX_HISTORY = 16;
+  struct EnergyTally {
+    std::vector<double> diss, elastic;    // this step, per atom (local and ghost)
+    void add_pair(int i, int j, int nlocal, int newton_pair, const viscontact::ContactResult &r);
+  };
+  EnergyTally tally_;
+  bool energy_requested = false;
+  EnergyTally *energy_begin();
+  void energy_end(EnergyTally *t, bool advance);
+  void pair_geometry(int i, int j, const double dx[3], double rsq, double meff,
+                     viscontact::ContactGeometry &g) const;
+  const viscontact::ContactCoeffs &coeffs_of(int i, int j, int itype, int jtype, double meff,
+                                             double reff);
+
   void allocate();
   void set_cutoff_radii();
   void check_radii() const;
-  void parse_coeff(int narg, char **arg, viscontact::LawParams &lp, double &E, double &nu);
+  void parse_coeff(int narg, char **arg, viscontact::ContactModel &m, double &E, double &nu,
+                   double &cut);
+  bool heat_on;    // the type pairs conduct heat (heat area)
+  bool layout_xi = false, layout_aprev = false, layout_roll = false, layout_twist = false;
   [[noreturn]] void fail(const std::string &msg);
 };
 

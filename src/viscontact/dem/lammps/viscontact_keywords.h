@@ -2,9 +2,16 @@
    `fix viscontact/wall`, parsed in one place:
 
        damping LAW [p P] FORM   [end force|overlap]   tangential TANG
+       [rolling sds KR GAMMAR MUR] [twisting marshall | twisting sds KT GAMMAT MUT] [heat area K]
          LAW  = LH | Ts | KK | Li | Hunt | Jian | power      (case-insensitive; power needs p)
          FORM = alpha A vref V [beta B]  |  c0 C [tau S]     (beta / tau: Jian only, required)
-         TANG = none | mindlin MU
+         TANG = none | linear_nohistory XGAMMA MU | linear_history KT XGAMMA MU
+              | mindlin KT|NULL XGAMMA MU | mindlin MU (= mindlin NULL 0 MU)
+              | mindlin_rescale | mindlin/force | mindlin_rescale/force  KT|NULL XGAMMA MU
+   and the normal models (parse_normal, parse_wall_normal):
+       hertz/material E NU | dmt E NU W | jkr E NU W        (pair_coeff)
+       normal hertz | dmt W | jkr W                          (fix viscontact/wall)
+   `end` defaults to force with hertz, overlap with dmt/jkr (where force is an error).
 
    Header-only, no LAMMPS includes: every function returns an error message (empty when all is
    well) that the caller turns into one `error->all` line with its own prefix.  Domains (the
@@ -20,6 +27,7 @@
 #define VISCONTACT_KEYWORDS_H
 
 #include "viscontact_contact.h"
+#include "viscontact_model.h"
 
 #include <cmath>
 #include <cstdio>
@@ -98,13 +106,78 @@ inline std::string parse_material(const std::string &E_label, const std::string 
   return parse_number(nu_label, nutext, POISSON_DOMAIN, nu);
 }
 
+/// The NORMAL model of a pair_coeff line starting at args[i]: `hertz/material E NU`,
+/// `dmt E NU W` or `jkr E NU W`; advances i past it.  Returns an error message, or "".
+inline std::string parse_normal(const std::vector<std::string> &args, size_t &i, NormalParams &np,
+                                double &E, double &nu)
+{
+  const std::string model = i < args.size() ? args[i] : "";
+  const bool cohesive = model == "dmt" || model == "jkr";
+  if (model != "hertz/material" && !cohesive)
+    return "expected the normal model hertz/material E NU, dmt E NU W or jkr E NU W, got " +
+        quoted(model);
+  const size_t nval = cohesive ? 3 : 2;
+  if (i + nval >= args.size())
+    return model + (cohesive ? " needs three values, E NU W" : " needs two values, E and NU");
+  std::string err = parse_material("E", "nu", args[i + 1], args[i + 2], E, nu);
+  if (!err.empty()) return err;
+  np.kind = model == "dmt" ? NormalKind::DMT : model == "jkr" ? NormalKind::JKR : NormalKind::Hertz;
+  np.W = 0.0;
+  if (cohesive) {
+    err = parse_number(model + " W", args[i + 3], PHYSICAL_DOMAIN, np.W);
+    if (!err.empty()) return err;
+  }
+  i += nval + 1;
+  return "";
+}
+
+/// The wall's `normal hertz | dmt W | jkr W` at args[i] (the keyword itself); advances i.
+inline std::string parse_wall_normal(const std::vector<std::string> &args, size_t &i,
+                                     NormalParams &np)
+{
+  const std::string model = i + 1 < args.size() ? args[i + 1] : "";
+  if (model == "hertz") {
+    np.kind = NormalKind::Hertz;
+    np.W = 0.0;
+    i += 2;
+    return "";
+  }
+  if (model != "dmt" && model != "jkr")
+    return "normal must be followed by hertz, dmt W or jkr W, got " + quoted(model);
+  if (i + 2 >= args.size()) return "normal " + model + " needs W";
+  np.kind = model == "dmt" ? NormalKind::DMT : NormalKind::JKR;
+  std::string err = parse_number("normal " + model + " W", args[i + 2], PHYSICAL_DOMAIN, np.W);
+  if (!err.empty()) return err;
+  i += 3;
+  return "";
+}
+
 /// Accumulates the law keywords of one pair_coeff / wall fix; call take() on each keyword,
 /// then finish() once.
 class LawKeywords {
  public:
   LawParams lp;
+  TangentialParams tangential;
+  RollingParams rolling;
+  TwistingParams twisting;
+  HeatParams heat;
 
-  /// If args[i] is one of `damping`, `end`, `tangential`, consume it with its values, advance
+  /// The contact model of these keywords with the given normal model (E*, G* to be set by the
+  /// caller, then setup()).
+  ContactModel model(const NormalParams &normal) const
+  {
+    ContactModel m;
+    m.normal = normal;
+    m.law = lp;
+    m.tangential = tangential;
+    m.rolling = rolling;
+    m.twisting = twisting;
+    m.heat = heat;
+    m.setup();
+    return m;
+  }
+
+  /// If args[i] is one of `damping`, `end`, `tangential`, `rolling`, `twisting`, `heat`, consume it with its values, advance
   /// i and return true; otherwise return false and leave i.  err is set on a bad value.
   bool take(const std::vector<std::string> &args, size_t &i, std::string &err)
   {
@@ -154,29 +227,126 @@ class LawKeywords {
     if (kw == "tangential") {
       if (seen_tangential) return fail(err, "tangential given twice");
       seen_tangential = true;
-      if (i + 1 < args.size() && args[i + 1] == "none") {
-        lp.friction = false;
-        lp.mu = 0.0;
+      const std::string model = i + 1 < args.size() ? args[i + 1] : "";
+      TangentialParams &t = tangential;
+      auto is_number = [](const std::string &x) {
+        char *end = nullptr;
+        std::strtod(x.c_str(), &end);
+        return !x.empty() && end != x.c_str() && *end == '\0';
+      };
+      if (model == "none") {
+        t.kind = TangentialKind::None;
+        i += 2;
+      } else if (model == "linear_nohistory") {
+        if (i + 3 >= args.size()) return fail(err, "tangential linear_nohistory needs XGAMMA MU");
+        t.kind = TangentialKind::LinearNoHistory;
+        err = parse_number("tangential linear_nohistory XGAMMA", args[i + 2], PHYSICAL_DOMAIN, t.xgamma);
+        if (err.empty()) err = parse_number("tangential linear_nohistory MU", args[i + 3], MU_DOMAIN, t.mu);
+        i += 4;
+      } else if (model == "linear_history") {
+        if (i + 4 >= args.size()) return fail(err, "tangential linear_history needs KT XGAMMA MU");
+        t.kind = TangentialKind::LinearHistory;
+        err = parse_number("tangential linear_history KT", args[i + 2], PHYSICAL_DOMAIN, t.kt);
+        if (err.empty()) err = parse_number("tangential linear_history XGAMMA", args[i + 3], PHYSICAL_DOMAIN, t.xgamma);
+        if (err.empty()) err = parse_number("tangential linear_history MU", args[i + 4], MU_DOMAIN, t.mu);
+        i += 5;
+      } else if (model == "mindlin" || model == "mindlin_rescale" || model == "mindlin/force" ||
+                 model == "mindlin_rescale/force") {
+        t.kind = model == "mindlin" ? TangentialKind::Mindlin
+            : model == "mindlin_rescale" ? TangentialKind::MindlinRescale
+            : model == "mindlin/force" ? TangentialKind::MindlinForce
+                                       : TangentialKind::MindlinRescaleForce;
+        const bool long_form = i + 4 < args.size() &&
+            (args[i + 2] == "NULL" || is_number(args[i + 2])) && is_number(args[i + 3]) &&
+            is_number(args[i + 4]);
+        if (model == "mindlin" && !long_form) {
+          // the short form `mindlin MU` = `mindlin NULL 0 MU`
+          if (i + 2 >= args.size()) return fail(err, "tangential mindlin needs MU (in [0, 10]) or KT|NULL XGAMMA MU");
+          t.kt_null = true;
+          t.xgamma = 0.0;
+          err = parse_number("tangential mindlin MU", args[i + 2], MU_DOMAIN, t.mu);
+          i += 3;
+        } else {
+          if (!long_form)
+            return fail(err, "tangential " + model + " needs KT|NULL XGAMMA MU (three numbers)");
+          const std::string pre = "tangential " + model + " ";
+          t.kt_null = args[i + 2] == "NULL";
+          if (!t.kt_null) err = parse_number(pre + "KT", args[i + 2], PHYSICAL_DOMAIN, t.kt);
+          if (err.empty()) err = parse_number(pre + "XGAMMA", args[i + 3], PHYSICAL_DOMAIN, t.xgamma);
+          if (err.empty()) err = parse_number(pre + "MU", args[i + 4], MU_DOMAIN, t.mu);
+          i += 5;
+        }
+      } else {
+        return fail(err, "tangential must be followed by one of none, linear_nohistory XGAMMA MU, "
+                         "linear_history KT XGAMMA MU, mindlin KT|NULL XGAMMA MU, mindlin MU, "
+                         "mindlin_rescale, mindlin/force, mindlin_rescale/force KT|NULL XGAMMA MU; "
+                         "got " + quoted(model));
+      }
+      // legacy fields (callers that know only `mindlin MU`)
+      lp.friction = t.kind != TangentialKind::None;
+      lp.mu = t.mu;
+      return true;
+    }
+    if (kw == "rolling") {
+      if (seen_rolling) return fail(err, "rolling given twice");
+      seen_rolling = true;
+      if (i + 1 >= args.size() || args[i + 1] != "sds")
+        return fail(err, "rolling must be followed by sds KR GAMMAR MUR");
+      if (i + 4 >= args.size()) return fail(err, "rolling sds needs KR GAMMAR MUR");
+      rolling.kind = RollingKind::SDS;
+      err = parse_number("rolling sds KR", args[i + 2], POSITIVE_DOMAIN, rolling.k);
+      if (err.empty()) err = parse_number("rolling sds GAMMAR", args[i + 3], PHYSICAL_DOMAIN, rolling.gamma);
+      if (err.empty()) err = parse_number("rolling sds MUR", args[i + 4], MU_DOMAIN, rolling.mu);
+      i += 5;
+      return true;
+    }
+    if (kw == "twisting") {
+      if (seen_twisting) return fail(err, "twisting given twice");
+      seen_twisting = true;
+      const std::string model = i + 1 < args.size() ? args[i + 1] : "";
+      if (model == "marshall") {
+        twisting.kind = TwistingKind::Marshall;
         i += 2;
         return true;
       }
-      if (i + 1 < args.size() && args[i + 1] == "mindlin") {
-        if (i + 2 >= args.size()) return fail(err, "tangential mindlin needs MU (in [0, 10])");
-        err = parse_number("tangential mindlin MU", args[i + 2], MU_DOMAIN, lp.mu);
-        lp.friction = true;
-        i += 3;
-        return true;
-      }
-      return fail(err, "tangential must be followed by none or mindlin MU");
+      if (model != "sds") return fail(err, "twisting must be followed by marshall or sds KT GAMMAT MUT");
+      if (i + 4 >= args.size()) return fail(err, "twisting sds needs KT GAMMAT MUT");
+      twisting.kind = TwistingKind::SDS;
+      err = parse_number("twisting sds KT", args[i + 2], POSITIVE_DOMAIN, twisting.k);
+      if (err.empty()) err = parse_number("twisting sds GAMMAT", args[i + 3], PHYSICAL_DOMAIN, twisting.gamma);
+      if (err.empty()) err = parse_number("twisting sds MUT", args[i + 4], PHYSICAL_DOMAIN, twisting.mu);
+      i += 5;
+      return true;
+    }
+    if (kw == "heat") {
+      if (seen_heat) return fail(err, "heat given twice");
+      seen_heat = true;
+      if (i + 1 >= args.size() || args[i + 1] != "area")
+        return fail(err, "heat must be followed by area K");
+      if (i + 2 >= args.size()) return fail(err, "heat area needs K (the conductivity, >= 0)");
+      heat.kind = HeatKind::Area;
+      err = parse_number("heat area K", args[i + 2], PHYSICAL_DOMAIN, heat.k);
+      i += 3;
+      return true;
     }
     return false;
   }
 
   /// Check that the keywords form one complete law; "" when they do.
-  std::string finish()
+  std::string finish(NormalKind normal_kind = NormalKind::Hertz)
   {
     if (!seen_damping) return "missing damping LAW ... (LAW one of LH Ts KK Li Hunt Jian power)";
-    if (!seen_tangential) return "missing tangential none | mindlin MU";
+    if (!seen_tangential)
+      return "missing tangential none | linear_nohistory | linear_history | mindlin ... (one is required)";
+    if (normal_kind != NormalKind::Hertz) {
+      if (seen_end && lp.clamp)
+        return std::string("end force is not allowed with the cohesive normal model ") +
+            (normal_kind == NormalKind::DMT ? "dmt" : "jkr") + " (use end overlap, the default)";
+      lp.clamp = false;
+    }
+    if (twisting.kind == TwistingKind::Marshall && (tangential.kind == TangentialKind::None ||
+                                                    tangential.kind == TangentialKind::LinearNoHistory))
+      return "twisting marshall needs a tangential spring: linear_history or a mindlin model";
     const bool jian = lp.law == Law::Jian;
     if (lp.law == Law::Power) {
       if (!has_p) return "damping power needs p P (P in [0, 10])";
@@ -210,7 +380,8 @@ class LawKeywords {
   }
 
  private:
-  bool seen_damping = false, seen_end = false, seen_tangential = false;
+  bool seen_damping = false, seen_end = false, seen_tangential = false, seen_rolling = false,
+       seen_twisting = false, seen_heat = false;
   bool has_p = false, has_alpha = false, has_vref = false, has_beta = false, has_c0 = false,
        has_tau = false;
   double p_in = 0.0;

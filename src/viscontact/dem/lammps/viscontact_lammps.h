@@ -92,6 +92,25 @@ class EffectiveMass {
   std::vector<double> body_mass;         ///< per atom (local and, for the pair, ghost)
 };
 
+/// What compute viscontact/energy sums: a pair's history fix or a wall fix that implements it
+/// exposes, per local atom, its cumulative dissipated energy by mechanism (NDISS columns in the
+/// order of viscontact_model.h: normal damping, tangential damping, sliding, rolling, twisting,
+/// adhesion hysteresis) and its elastic energy now (NELASTIC columns: normal, tangential,
+/// rolling, twisting).  A pair contact gives half to each partner, a wall contact all to its
+/// atom.  Arrays are row-major, atom->nlocal rows, valid after the last force computation.
+class EnergySource {
+ public:
+  /// Start tallying (called by the compute's init; the tally starts at the next run).
+  virtual void energy_request() = 0;
+  /// Cumulative dissipated energy, NDISS per local atom (nullptr: none yet).
+  virtual const double *energy_dissipated_atom() const = 0;
+  /// Elastic energy now, NELASTIC per local atom (nullptr: none yet).
+  virtual const double *energy_elastic_atom() const = 0;
+
+ protected:
+  ~EnergySource() = default;    // not deleted through this interface
+};
+
 /// Stop with one error line when a fix needs the contact model to conduct heat (fix heat/flow):
 /// the laws carry no heat model yet, and a silent zero conduction would be a wrong answer.
 inline void refuse_heat(LAMMPS_NS::LAMMPS *lmp, const std::string &who)

@@ -1,0 +1,533 @@
+/* viscontact_model.h -- THE contact step of viscontact: one granular contact model per type pair
+   (pair viscontact) or per wall type (fix viscontact/wall), composed of sub-models, evaluated by
+   one call.  Header-only, no LAMMPS includes (also built into the ctypes test kernel).
+
+   Sub-models (one of each per model):
+     normal      hertz/material E NU | dmt E NU W | jkr E NU W
+     damping     one of the viscoelastic laws of viscontact_contact.h (LH Ts KK Li Hunt Jian power)
+     tangential  none | linear_nohistory XGAMMA MU | linear_history KT XGAMMA MU
+                 | mindlin[_rescale][/force] KT|NULL XGAMMA MU   (short form: mindlin MU)
+     rolling     none | sds KR GAMMAR MUR
+     twisting    none | marshall | sds KT GAMMAT MUT
+     heat        none | area K
+
+   Order of one evaluation (as LAMMPS pair granular, stable 22Jul2025): contact radius a, elastic
+   normal force F_ne, damping prefactor eta_n and F_d, F_n = F_ne + F_d (clamped at 0 with
+   `end force`), critical force F0, tangential force, torques, rolling, twisting, heat.
+
+   Normal models (K. L. Johnson, Contact Mechanics, CUP 1985, ch. 4 and 5; Johnson, Kendall,
+   Roberts, Proc. R. Soc. A 324 (1971) 301; Derjaguin, Muller, Toporov, J. Colloid Interface
+   Sci. 53 (1975) 314), k = (4/3) E*, k_H = k sqrt(R*):
+     hertz  a = sqrt(R* delta), F_ne = k a delta,                       F0 = |F_n|
+     dmt    a = sqrt(R* delta), F_ne = k a delta - 4 pi W R*,           F0 = |F_ne + 8 pi W R*|
+     jkr    delta = a^2/R* - 2 sqrt(pi W a / E*), F_ne = k a^3/R* - 4 sqrt(pi W E*) a^(3/2),
+            F0 = |F_ne + 6 pi W R*|; the contact forms at delta > 0 and lives until
+            delta < -delta_c, delta_c = (3 pi^2/16)^(1/3) (R* W^2/E*^2)^(1/3).
+   Damping: F_d = c0 g(t_c) delta_a^p ddelta with delta_a = a^2/R* (= delta for hertz, dmt),
+   ddelta = -v_n; the tangential damping is XGAMMA times the (unclamped) prefactor.
+
+   Energy (per evaluation that advances the history): dissipated energy by mechanism
+   (DISS_* below) and the elastic energy stored now (ELASTIC_*), so that kinetic + rotational +
+   elastic + dissipated is conserved to first order in dt:
+     normal damping  -(F_n - F_ne) v_n dt            (the clamp included)
+     tangential damping, rolling, twisting: eta |v|^2 dt of their dashpots
+     sliding (and rolling/twisting slip): the spring energy the Coulomb cap removes,
+       (1/2) k (|xi_before|^2 - |xi_after|^2), plus, for a pair, the work of F_t on the lever-arm
+       difference (delta/2)(w_i + w_j) x n that the spring never sees
+     adhesion hysteresis: the JKR energy released when a contact forms (its elastic energy jumps
+       from 0 to U(delta) < 0); U is zero at pull-off, so breaking releases nothing more.
+   Elastic: normal U(delta) = int F_ne d(delta) (hertz (2/5) k_H delta^(5/2), dmt minus F_po
+   delta, jkr from -delta_c), tangential (1/2) k_t |xi|^2 (|h|^2/(2 k_t) for the force forms),
+   rolling (1/2) KR |xi_R|^2, twisting (1/2) k_tw xi_tw^2.
+
+   This file is part of viscontact.  Compiled into a LAMMPS plugin it links GPL-2 LAMMPS. */
+#ifndef VISCONTACT_MODEL_H
+#define VISCONTACT_MODEL_H
+
+#include "viscontact_contact.h"
+
+#include <cmath>
+#include <string>
+
+namespace viscontact {
+
+/* ---- sub-model kinds and their parameters ---------------------------------------------- */
+
+enum class NormalKind { Hertz, DMT, JKR };
+enum class TangentialKind {
+  None, LinearNoHistory, LinearHistory, Mindlin, MindlinRescale, MindlinForce, MindlinRescaleForce
+};
+enum class RollingKind { None, SDS };
+enum class TwistingKind { None, Marshall, SDS };
+enum class HeatKind { None, Area };
+
+/// Dissipation mechanisms, in the order of every energy column.
+enum Dissipation {
+  DISS_NORMAL_DAMPING = 0, DISS_TANGENTIAL_DAMPING, DISS_SLIDING, DISS_ROLLING, DISS_TWISTING,
+  DISS_ADHESION, NDISS
+};
+/// Elastic energy parts, in the order of every energy column.
+enum Elastic { ELASTIC_NORMAL = 0, ELASTIC_TANGENTIAL, ELASTIC_ROLLING, ELASTIC_TWISTING, NELASTIC };
+
+struct NormalParams {
+  NormalKind kind = NormalKind::Hertz;
+  double W = 0.0;    ///< surface energy per area (native's cohesion) [energy/length^2]
+};
+struct TangentialParams {
+  TangentialKind kind = TangentialKind::None;
+  double kt = 0.0;        ///< KT (linear_history: force/length; mindlin: force/length^2)
+  bool kt_null = false;   ///< mindlin family: KT given as NULL (k = 8 G*)
+  double xgamma = 0.0;    ///< tangential damping / normal damping prefactor [-]
+  double mu = 0.0;        ///< sliding friction coefficient [-]
+};
+struct RollingParams {
+  RollingKind kind = RollingKind::None;
+  double k = 0.0, gamma = 0.0, mu = 0.0;    ///< KR [force/length], GAMMAR, MUR
+};
+struct TwistingParams {
+  TwistingKind kind = TwistingKind::None;
+  double k = 0.0, gamma = 0.0, mu = 0.0;    ///< sds: KT [torque/rad], GAMMAT, MUT [length]
+};
+struct HeatParams {
+  HeatKind kind = HeatKind::None;
+  double k = 0.0;    ///< conductivity K [power/(length^2 temperature)]
+};
+
+/* ---- one contact: what goes in, what comes out ------------------------------------------ */
+
+/// Geometry and kinematics of one contact.  Pair: n = (x_i - x_j)/r, r_j > 0.  Wall: n from the
+/// wall to the sphere, wall = true (lever arm r_i, no torque on j, omega_j = 0).
+struct ContactGeometry {
+  double n[3];                  ///< unit normal, from j (or the wall) to i
+  double delta;                 ///< overlap r_i + r_j - r (wall: r_i - distance) [length]
+  double r_i, r_j;              ///< radii (wall: r_j unused)
+  double reff, meff;            ///< R*, m*
+  double vr[3];                 ///< v_i - v_j (wall: v_i - v_wall)
+  double omega_i[3], omega_j[3];
+  double dt, t_now;             ///< time step, time now
+  double T_i = 0.0, T_j = 0.0;  ///< temperatures (heat area)
+  bool wall = false;
+  const ContactCoeffs *coeffs = nullptr;    ///< per-contact k_H, c0, tau if the caller caches them
+};
+
+/// Everything one evaluation produces.
+struct ContactResult {
+  double force[3];       ///< total contact force on i (j gets its negative)
+  double torque_i[3], torque_j[3];
+  double heat;           ///< heat flow into i (j gets its negative)
+  double fn, fne, fdamp; ///< F_n (after the clamp), F_ne (elastic), F_n - F_ne
+  double ft[3], fr[3];   ///< tangential force on i, rolling pseudo-force
+  double tau_twist;      ///< twisting torque magnitude along n on i
+  double a;              ///< contact radius
+  double dissipated[NDISS];   ///< energy dissipated over this step (dt), per mechanism; added to
+                              ///< the contact's history only when the history advances
+  double elastic[NELASTIC];   ///< elastic energy stored now
+  double power;               ///< total dissipated power of the step (sum dissipated / dt)
+};
+
+/// History slot offsets of a model (-1: absent).  The total is history_size().
+struct HistorySlots {
+  int touch = 0;       ///< 1 while the contact exists (jkr: until pull-off)
+  int t0 = 1;          ///< time the contact began (Jian's clock)
+  int energy = 2;      ///< the contact's accumulated dissipated energy
+  int xi = -1;         ///< tangential displacement xi or elastic force h (3)
+  int a_prev = -1;     ///< contact radius of the last step (rescale models)
+  int roll = -1;       ///< rolling displacement (3)
+  int twist = -1;      ///< twisting angle (1)
+  int size = 3;
+};
+
+/* ---- normal-model helpers ----------------------------------------------------------------- */
+
+/// JKR contact radius on the stable branch for overlap delta (the closed-form root of
+/// delta = a^2/R - 2 sqrt(pi W a/E*), as LAMMPS granular's), dR = delta R*.
+inline double jkr_contact_radius(double reff, double delta, double W, double Estar)
+{
+  const double PI = 3.14159265358979323846;
+  const double dR = delta * reff;
+  const double R2 = reff * reff, dR2 = dR * dR;
+  const double t0 = W * W * R2 * R2 * Estar;
+  const double t1 = 27.0 * PI * PI * t0;
+  const double t2 = 8.0 * dR * dR2 * Estar * Estar * Estar;
+  const double t3 = 4.0 * dR2 * Estar;
+  const double s1 = t0 * (t1 + 2.0 * t2);
+  const double t4 = std::cbrt(t1 + t2 + 3.0 * std::sqrt(3.0) * PI * std::sqrt(s1 > 0.0 ? s1 : 0.0));
+  const double t5 = t3 / t4 + t4 / Estar;
+  const double s2 = 2.0 * dR + t5;
+  const double t6 = std::sqrt(s2 > 0.0 ? s2 : 0.0);
+  const double s3 = 4.0 * dR - t5 + 6.0 * std::sqrt(6.0) * W * PI * R2 / (Estar * t6);
+  return (t6 + std::sqrt(s3 > 0.0 ? s3 : 0.0)) / std::sqrt(6.0);
+}
+
+/// JKR pull-off overlap delta_c = (3 pi^2/16)^(1/3) (R* W^2/E*^2)^(1/3) (> 0) [length].
+inline double jkr_pulloff_distance(double reff, double W, double Estar)
+{
+  if (reff <= 0.0 || W <= 0.0) return 0.0;
+  return 1.2277228507842888 * std::cbrt(reff * W * W / (Estar * Estar));
+}
+
+/// G(a) = int F_ne d(delta) along the JKR branch up to contact radius a (without constant):
+/// (8E*/(15R*^2)) a^5 - (8/(3R*)) sqrt(pi W E*) a^(7/2) + 2 pi W a^2.
+inline double jkr_energy_primitive(double a, double reff, double W, double Estar)
+{
+  const double PI = 3.14159265358979323846;
+  return 8.0 * Estar / (15.0 * reff * reff) * a * a * a * a * a -
+      8.0 / (3.0 * reff) * std::sqrt(PI * W * Estar) * a * a * a * std::sqrt(a) +
+      2.0 * PI * W * a * a;
+}
+
+/* ---- the model ---------------------------------------------------------------------------- */
+
+class ContactModel {
+ public:
+  NormalParams normal;
+  LawParams law;    ///< damping law, clamp (`end force`), E*, G* (friction/mu: legacy fields)
+  TangentialParams tangential;
+  RollingParams rolling;
+  TwistingParams twisting;
+  HeatParams heat;
+
+  /// Lay out the history slots; call after the parameters are set (and after mixing).  The
+  /// force_* flags reserve a slot even if this model does not use it, so that every type pair
+  /// of a pair style shares one layout (one history size, one flip rule).
+  void setup(bool force_xi = false, bool force_aprev = false, bool force_roll = false,
+             bool force_twist = false)
+  {
+    int n = 3;
+    slots = HistorySlots();
+    if (has_tangential_history() || force_xi) { slots.xi = n; n += 3; }
+    if (rescale() || force_aprev) slots.a_prev = n++;
+    if (rolling.kind == RollingKind::SDS || force_roll) { slots.roll = n; n += 3; }
+    if (twisting.kind != TwistingKind::None || force_twist) slots.twist = n++;
+    slots.size = n;
+  }
+  int history_size() const { return slots.size; }
+  const HistorySlots &history_slots() const { return slots; }
+
+  /// Sign of each history slot when a pair's stored orientation flips (i <-> j): -1 for the
+  /// tangential, rolling and twisting displacements, +1 for everything else.  sign[size].
+  void history_signs(double *sign) const
+  {
+    for (int k = 0; k < slots.size; k++) sign[k] = 1.0;
+    if (slots.xi >= 0) for (int k = 0; k < 3; k++) sign[slots.xi + k] = -1.0;
+    if (slots.roll >= 0) for (int k = 0; k < 3; k++) sign[slots.roll + k] = -1.0;
+    if (slots.twist >= 0) sign[slots.twist] = -1.0;
+  }
+
+  bool cohesive() const { return normal.kind != NormalKind::Hertz; }
+  bool beyond_contact() const { return normal.kind == NormalKind::JKR; }
+  bool has_tangential_history() const
+  {
+    return tangential.kind != TangentialKind::None &&
+        tangential.kind != TangentialKind::LinearNoHistory;
+  }
+  bool rescale() const
+  {
+    return tangential.kind == TangentialKind::MindlinRescale ||
+        tangential.kind == TangentialKind::MindlinRescaleForce;
+  }
+  bool force_history() const
+  {
+    return tangential.kind == TangentialKind::MindlinForce ||
+        tangential.kind == TangentialKind::MindlinRescaleForce;
+  }
+  bool mindlin() const
+  {
+    return tangential.kind == TangentialKind::Mindlin || rescale() || force_history();
+  }
+  /// Tangential stiffness coefficient: KT, or 8 G* for mindlin with NULL.
+  double tangential_k() const { return tangential.kt_null ? 8.0 * law.Gstar : tangential.kt; }
+
+  /// Extra reach beyond r_i + r_j of a contact of effective radius reff (jkr: delta_c).
+  double pulloff_distance(double reff) const
+  {
+    return normal.kind == NormalKind::JKR ? jkr_pulloff_distance(reff, normal.W, law.Estar) : 0.0;
+  }
+
+  /// Does the contact exist?  rsq: squared distance, radsum: r_i + r_j (wall: r_i and rsq the
+  /// squared distance to the wall), touched: it existed at the last step.
+  bool touching(double rsq, double radsum, double reff, bool touched) const
+  {
+    if (touched && normal.kind == NormalKind::JKR) {
+      const double d = radsum + pulloff_distance(reff);
+      return rsq < d * d;
+    }
+    return rsq < radsum * radsum;
+  }
+
+  /// THE contact step.  history: history_size() values of this contact (touch slot 0: a new
+  /// contact, which is initialised here).  advance = false in a run's setup force call and in
+  /// single(): displacements are not incremented and no energy is counted (the Coulomb cap and
+  /// the rescale still rewrite the tangential history, as native).
+  void evaluate(const ContactGeometry &g, double *h, bool advance, ContactResult &res) const;
+
+ private:
+  HistorySlots slots;
+};
+
+/* ---- implementation ------------------------------------------------------------------------ */
+
+namespace detail {
+inline double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline void cross3(const double *a, const double *b, double *c)
+{
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+/// Project v onto the plane normal to n and restore its length.
+inline void rotate_rescale(double *v, const double *n)
+{
+  const double len = std::sqrt(dot3(v, v));
+  const double vn = dot3(v, n);
+  for (int k = 0; k < 3; k++) v[k] -= vn * n[k];
+  const double plen = std::sqrt(dot3(v, v));
+  const double s = plen > 0.0 ? len / plen : 0.0;
+  for (int k = 0; k < 3; k++) v[k] *= s;
+}
+}    // namespace detail
+
+inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool advance,
+                                   ContactResult &res) const
+{
+  using detail::cross3;
+  using detail::dot3;
+  const double PI = 3.14159265358979323846;
+  const double *n = g.n;
+  const double delta = g.delta, reff = g.reff, dt = g.dt;
+  for (int k = 0; k < NDISS; k++) res.dissipated[k] = 0.0;
+  for (int k = 0; k < NELASTIC; k++) res.elastic[k] = 0.0;
+
+  // kinematics: v_n (< 0 approaching), slip velocity v_tr = v_t - (r_i w_i + r_j w_j) x n
+  const double rj = g.wall ? 0.0 : g.r_j;
+  double wr[3], vtr[3];
+  for (int k = 0; k < 3; k++) wr[k] = g.r_i * g.omega_i[k] + rj * g.omega_j[k];
+  const double vn = relative_tangential_velocity(g.vr, wr, n, vtr);
+  const double ddelta = -vn;
+
+  // a new contact: fresh history and clock
+  const bool fresh = h[slots.touch] == 0.0;
+  if (fresh) {
+    for (int k = 0; k < slots.size; k++) h[k] = 0.0;
+    h[slots.touch] = 1.0;
+    h[slots.t0] = contact_start_time(g.t_now, dt, delta, ddelta);
+  }
+
+  // (2) contact radius, (3) elastic normal force and potential
+  ContactCoeffs cc = g.coeffs ? *g.coeffs : contact_coeffs(law, g.meff, reff);
+  const double kmat = 4.0 / 3.0 * law.Estar;
+  double a, fne, fpo = 0.0, delta_a, U;
+  if (normal.kind == NormalKind::JKR) {
+    const double W = normal.W, E = law.Estar;
+    a = jkr_contact_radius(reff, delta, W, E);
+    const double a2 = a * a;
+    fne = kmat * a * a2 / reff - 2.0 * PI * a2 * std::sqrt(4.0 * W * E / (PI * a));
+    fpo = 3.0 * PI * W * reff;
+    delta_a = a2 / reff;
+    const double ac = std::cbrt(9.0 * PI * W * reff * reff / (4.0 * E));
+    U = jkr_energy_primitive(a, reff, W, E) - jkr_energy_primitive(ac, reff, W, E);
+  } else {
+    const double dpos = delta > 0.0 ? delta : 0.0;
+    a = std::sqrt(reff * dpos);
+    fne = kmat * a * dpos;
+    U = 0.4 * fne * dpos;
+    if (normal.kind == NormalKind::DMT) {
+      fpo = 4.0 * PI * normal.W * reff;
+      fne -= fpo;
+      U -= fpo * dpos;
+    }
+    delta_a = dpos;
+  }
+  res.a = a;
+
+  // (4) damping prefactor and force, (5) total normal force and clamp
+  const double tc = contact_clock(g.t_now, h[slots.t0]);
+  const double eta_n = cc.c0 * relaxation(tc, cc.tau) * overlap_power(delta_a, law.p);
+  const double fd = eta_n * ddelta;
+  double fn = fne + fd;
+  if (law.clamp && fn < 0.0) fn = 0.0;
+  res.fne = fne;
+  res.fn = fn;
+  res.fdamp = fn - fne;
+
+  // (6) critical force
+  const double F0 = cohesive() ? std::fabs(fne + 2.0 * fpo) : std::fabs(fn);
+
+  // (7) tangential force
+  double *ft = res.ft;
+  ft[0] = ft[1] = ft[2] = 0.0;
+  const double eta_t = tangential.xgamma * eta_n;
+  const double fscrit = tangential.mu * F0;
+  double dsl = 0.0, dtd = 0.0, el_t = 0.0;
+  if (tangential.kind == TangentialKind::LinearNoHistory) {
+    const double vrel = std::sqrt(dot3(vtr, vtr));
+    if (vrel != 0.0) {
+      const double fmag = eta_t * vrel;
+      const double s = (fmag < fscrit ? fmag : fscrit) / vrel;
+      for (int k = 0; k < 3; k++) ft[k] = -s * vtr[k];
+      dtd = s * vrel * vrel * dt;
+    }
+  } else if (tangential.kind != TangentialKind::None) {
+    double *xi = &h[slots.xi];
+    const bool force_form = force_history();
+    const double kt = mindlin() ? tangential_k() * a : tangential.kt;
+    if (rescale() && a < h[slots.a_prev]) {
+      const double s = a / h[slots.a_prev];
+      for (int k = 0; k < 3; k++) xi[k] *= s;
+    }
+    if (advance) {
+      const double rsht = std::fabs(dot3(xi, n));
+      if ((force_form ? rsht : rsht * kt) > 1e-10 * fscrit) detail::rotate_rescale(xi, n);
+      for (int k = 0; k < 3; k++) xi[k] += force_form ? -kt * dt * vtr[k] : dt * vtr[k];
+      if (rescale()) h[slots.a_prev] = a;
+    }
+    double fdmp[3];
+    for (int k = 0; k < 3; k++) {
+      fdmp[k] = -eta_t * vtr[k];
+      ft[k] = (force_form ? xi[k] : -kt * xi[k]) + fdmp[k];
+    }
+    const double el_before = force_form ? (kt > 0.0 ? 0.5 * dot3(xi, xi) / kt : 0.0)
+                                        : 0.5 * kt * dot3(xi, xi);
+    const double magfs = std::sqrt(dot3(ft, ft));
+    if (magfs > fscrit) {
+      if (dot3(xi, xi) != 0.0) {
+        const double s = fscrit / magfs;
+        for (int k = 0; k < 3; k++) {
+          ft[k] *= s;
+          xi[k] = force_form ? ft[k] - fdmp[k] : -(ft[k] - fdmp[k]) / kt;
+        }
+        // the cap scales the dashpot too: count its share as damping, the rest as sliding
+        dtd = s * eta_t * dot3(vtr, vtr) * dt;
+      } else {
+        ft[0] = ft[1] = ft[2] = 0.0;
+      }
+    } else {
+      dtd = eta_t * dot3(vtr, vtr) * dt;
+    }
+    el_t = force_form ? (kt > 0.0 ? 0.5 * dot3(xi, xi) / kt : 0.0) : 0.5 * kt * dot3(xi, xi);
+    dsl = el_before - el_t;
+    if (!(dtd >= 0.0)) dtd = 0.0;
+  }
+
+  // (8) torques of the tangential force
+  double nxf[3];
+  cross3(n, ft, nxf);
+  const double di = g.wall ? g.r_i : g.r_i - 0.5 * delta;
+  const double dj = g.r_j - 0.5 * delta;
+  for (int k = 0; k < 3; k++) {
+    res.torque_i[k] = -di * nxf[k];
+    res.torque_j[k] = g.wall ? 0.0 : -dj * nxf[k];
+  }
+  if (!g.wall) {
+    // work of F_t on the lever-arm difference, which the slip velocity (radii r_i, r_j) omits
+    double ws[3], wsxn[3];
+    for (int k = 0; k < 3; k++) ws[k] = g.omega_i[k] + g.omega_j[k];
+    cross3(ws, n, wsxn);
+    dsl += 0.5 * delta * dot3(ft, wsxn) * dt;
+  }
+
+  // (9) rolling
+  double *fr = res.fr;
+  fr[0] = fr[1] = fr[2] = 0.0;
+  double relrot[3] = {g.omega_i[0] - g.omega_j[0], g.omega_i[1] - g.omega_j[1],
+                      g.omega_i[2] - g.omega_j[2]};
+  if (g.wall) for (int k = 0; k < 3; k++) relrot[k] = g.omega_i[k];
+  double drl = 0.0, el_r = 0.0;
+  if (rolling.kind == RollingKind::SDS) {
+    double vrl[3];
+    cross3(relrot, n, vrl);
+    for (int k = 0; k < 3; k++) vrl[k] *= reff;
+    double xr[3] = {h[slots.roll], h[slots.roll + 1], h[slots.roll + 2]};
+    const double kr = rolling.k, frcrit = rolling.mu * F0;
+    if (advance) {
+      if (std::fabs(dot3(xr, n)) * kr > 1e-10 * frcrit) detail::rotate_rescale(xr, n);
+      for (int k = 0; k < 3; k++) xr[k] += dt * vrl[k];
+    }
+    for (int k = 0; k < 3; k++) fr[k] = -kr * xr[k] - rolling.gamma * vrl[k];
+    const double el_before = 0.5 * kr * dot3(xr, xr);
+    const double magfr = std::sqrt(dot3(fr, fr));
+    if (magfr > frcrit) {
+      if (dot3(xr, xr) != 0.0) {
+        for (int k = 0; k < 3; k++) xr[k] = -frcrit / (kr * magfr) * fr[k] - rolling.gamma / kr * vrl[k];
+        const double s = frcrit / magfr;
+        for (int k = 0; k < 3; k++) fr[k] *= s;
+        drl = s * rolling.gamma * dot3(vrl, vrl) * dt;
+      } else {
+        fr[0] = fr[1] = fr[2] = 0.0;
+      }
+    } else {
+      drl = rolling.gamma * dot3(vrl, vrl) * dt;
+    }
+    el_r = 0.5 * kr * dot3(xr, xr);
+    drl += el_before - el_r;
+    if (advance) for (int k = 0; k < 3; k++) h[slots.roll + k] = xr[k];
+    double tr[3];
+    cross3(n, fr, tr);
+    for (int k = 0; k < 3; k++) {
+      res.torque_i[k] += reff * tr[k];
+      if (!g.wall) res.torque_j[k] -= reff * tr[k];
+    }
+  }
+
+  // (10) twisting
+  res.tau_twist = 0.0;
+  double dtw = 0.0, el_w = 0.0;
+  if (twisting.kind != TwistingKind::None) {
+    double ktw, etw, tcrit;
+    if (twisting.kind == TwistingKind::Marshall) {
+      ktw = 0.5 * tangential_k() * a * a;
+      etw = 0.5 * eta_t * a * a;
+      tcrit = 2.0 / 3.0 * tangential.mu * a * F0;
+    } else {
+      ktw = twisting.k;
+      etw = twisting.gamma;
+      tcrit = twisting.mu * F0;
+    }
+    const double wt = dot3(relrot, n);
+    double &xt = h[slots.twist];
+    if (advance) xt += wt * dt;
+    double tq = -ktw * xt - etw * wt;
+    const double el_before = 0.5 * ktw * xt * xt;
+    const double sgn = (wt > 0.0) - (wt < 0.0);
+    if (std::fabs(tq) > tcrit) {
+      xt = (tcrit * sgn - etw * wt) / ktw;
+      const double frac = std::fabs(tq) > 0.0 ? tcrit / std::fabs(tq) : 0.0;
+      dtw = frac * etw * wt * wt * dt;
+      tq = -tcrit * sgn;
+    } else {
+      dtw = etw * wt * wt * dt;
+    }
+    el_w = 0.5 * ktw * xt * xt;
+    dtw += el_before - el_w;
+    res.tau_twist = tq;
+    for (int k = 0; k < 3; k++) {
+      res.torque_i[k] += tq * n[k];
+      if (!g.wall) res.torque_j[k] -= tq * n[k];
+    }
+  }
+
+  // (11) heat
+  res.heat = heat.kind == HeatKind::Area ? heat.k * PI * a * a * (g.T_j - g.T_i) : 0.0;
+
+  for (int k = 0; k < 3; k++) res.force[k] = fn * n[k] + ft[k];
+
+  res.elastic[ELASTIC_NORMAL] = U;
+  res.elastic[ELASTIC_TANGENTIAL] = el_t;
+  res.elastic[ELASTIC_ROLLING] = el_r;
+  res.elastic[ELASTIC_TWISTING] = el_w;
+  res.dissipated[DISS_NORMAL_DAMPING] = -(fn - fne) * vn * dt;
+  res.dissipated[DISS_TANGENTIAL_DAMPING] = dtd;
+  res.dissipated[DISS_SLIDING] = dsl;
+  res.dissipated[DISS_ROLLING] = drl;
+  res.dissipated[DISS_TWISTING] = dtw;
+  // JKR snap-in: the elastic energy jumps from 0 (apart) to U < 0
+  if (fresh && normal.kind == NormalKind::JKR) res.dissipated[DISS_ADHESION] = -U;
+  double sum = 0.0;
+  for (int k = 0; k < NDISS; k++) sum += res.dissipated[k];
+  res.power = dt > 0.0 ? sum / dt : 0.0;
+  if (advance) h[slots.energy] += sum;
+}
+
+}    // namespace viscontact
+
+#endif
