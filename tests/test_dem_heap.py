@@ -115,12 +115,17 @@ def test_heap_rolling_resistance_raises_the_angle(tmp_path):
 @needs_lammps
 @pytest.mark.parametrize("law", [law for law in LAWS if law != "KK"])
 def test_heap_runs_with_every_law(tmp_path, law):
-    """A short heap (120 discs) with rolling resistance: every disc kept, a heap to measure."""
+    """A short heap (120 discs, too few for a reliable angle) with rolling resistance: every
+    disc kept, finite energy, and the bed, freed of its sides, spreads and comes down."""
     d = _copy(tmp_path, f"heap-{law}")
-    res, frame = _heap(d, law, 0.5, n=120, settle=12000, steps=6000, every=6000)
+    res, frame = _heap(d, law, 0.5, n=120, W=0.12, settle=20000, steps=10000, every=5000)
     assert res.thermo["Atoms"][-1] == frame.natoms
     assert np.all(np.isfinite(res.thermo["c_ke"]))
-    assert 5.0 < repose_angle(frame).angle < 60.0
+    step = res.thermo["Step"]
+    height = res.thermo["c_height"]
+    assert height[-1] < height[step == 20000][0]
+    grains = frame["type"] == 1
+    assert np.ptp(frame["x"][grains]) > 0.12
 
 
 @needs_lammps

@@ -4,7 +4,8 @@
 on a floor and fits a straight line to each flank of its free surface: the surface is the
 highest sphere top (y + r in 2D, z + r in 3D) in columns two mean diameters wide; each flank,
 walked down from the peak to the first gap, is fitted between ``lo`` and ``hi`` of the heap's height above its base, which leaves out the
-rounded top and the feet where loose spheres roll away.  The angle is the mean of the two
+rounded top and the feet where loose spheres roll away.  The heap is the run of occupied
+columns that holds the most spheres (loose spheres elsewhere do not count).  The angle is the mean of the two
 flanks' slopes, atan(|dh/dx|) in degrees (Zhou et al. 2002, Powder Technol. 125, 45 use the
 same kind of surface fit).
 """
@@ -58,7 +59,19 @@ def repose_angle(frame, *, up: str = "y", across: str = "x", grains: int | None 
     surface = np.full(cols.max() + 1, np.nan)
     np.fmax.at(surface, cols, top)
     centres = centre + (np.arange(len(surface)) + float(np.floor((x - centre) / width).min()) + 0.5) * width
-    peak = int(np.nanargmax(surface))
+    # the heap: the run of occupied columns holding the most spheres (spheres that rolled away,
+    # or piled against a far wall, form runs of their own)
+    counts = np.bincount(cols, minlength=len(surface))
+    runs, start = [], None
+    for k in range(len(surface) + 1):
+        filled = k < len(surface) and np.isfinite(surface[k])
+        if filled and start is None:
+            start = k
+        elif not filled and start is not None:
+            runs.append((int(counts[start:k].sum()), start, k))
+            start = None
+    _, first, last = max(runs)
+    peak = first + int(np.nanargmax(surface[first:last]))
     height = float(surface[peak])
     angles = []
     for step in (-1, 1):
