@@ -201,7 +201,7 @@ void PairViscontact::init_style()
       nset++;
       if (m.heat.kind != vc::HeatKind::None) nheat++;
       layout_xi = layout_xi || m.has_tangential_history();
-      layout_aprev = layout_aprev || m.rescale();
+      layout_aprev = layout_aprev || m.needs_aprev();
       layout_roll = layout_roll || m.rolling.kind != vc::RollingKind::None;
       layout_twist = layout_twist || m.twisting.kind != vc::TwistingKind::None;
       if (m.beyond_contact()) beyond_contact = 1;
@@ -229,7 +229,12 @@ void PairViscontact::init_style()
          "(unfix or plugin unload); give pair_style viscontact and its pair_coeff lines again to "
          "start with fresh contacts");
   masses.init(lmp, "pair viscontact");
-  neighbor->add_request(this, NeighConst::REQ_SIZE);
+  // jkr contacts live beyond r_i + r_j (to the pull-off distance): a size-based list keeps only
+  // pairs within r_i + r_j + skin, so use a cutoff list (the cutoffs include the pull-off)
+  if (beyond_contact)
+    neighbor->add_request(this);
+  else
+    neighbor->add_request(this, NeighConst::REQ_SIZE);
   coeff_cache.assign(1 << COEFF_CACHE_BITS, CoeffCache());    // coefficients may have changed
 
   // every contact keeps a history (touch flag, start time, dissipated energy, springs)
@@ -488,6 +493,7 @@ void PairViscontact::compute(int eflag, int vflag)
           !m.touching(rsq, radsum, radi * radj / radsum, fl[jj] != 0)) {
         // apart (jkr: beyond pull-off): the contact (if any) has ended; a new one starts afresh
         if (history_update && fl[jj]) {
+          if (tally) tally->add_release(i, j, nlocal, newton_pair, m, h);
           fl[jj] = 0;
           for (int k = 0; k < dnum; k++) h[k] = 0.0;
         }
@@ -708,6 +714,18 @@ void PairViscontact::EnergyTally::add_pair(int i, int j, int nlocal, int newton_
     for (int k = 0; k < vc::NDISS; k++) diss[(size_t) a * vc::NDISS + k] += 0.5 * r.dissipated[k];
     for (int k = 0; k < vc::NELASTIC; k++)
       elastic[(size_t) a * vc::NELASTIC + k] += 0.5 * r.elastic[k];
+  }
+}
+
+void PairViscontact::EnergyTally::add_release(int i, int j, int nlocal, int newton_pair,
+                                               const vc::ContactModel &m, const double *h)
+{
+  double d[vc::NDISS] = {0.0};
+  m.release(h, d);
+  for (int side = 0; side < 2; side++) {
+    const int a = side ? j : i;
+    if (side && !(newton_pair || j < nlocal)) break;
+    for (int k = 0; k < vc::NDISS; k++) diss[(size_t) a * vc::NDISS + k] += 0.5 * d[k];
   }
 }
 

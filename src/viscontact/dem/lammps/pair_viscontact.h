@@ -97,6 +97,8 @@ class PairViscontact : public Pair {
   struct EnergyTally {
     std::vector<double> diss, elastic;    // this step, per atom (local and ghost)
     void add_pair(int i, int j, int nlocal, int newton_pair, const viscontact::ContactResult &r);
+    void add_release(int i, int j, int nlocal, int newton_pair, const viscontact::ContactModel &m,
+                     const double *h);
   };
   EnergyTally tally_;
   bool energy_requested = false;

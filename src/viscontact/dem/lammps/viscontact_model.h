@@ -130,11 +130,12 @@ struct HistorySlots {
   int touch = 0;       ///< 1 while the contact exists (jkr: until pull-off)
   int t0 = 1;          ///< time the contact began (Jian's clock)
   int energy = 2;      ///< the contact's accumulated dissipated energy
+  int elastic = 3;     ///< its elastic energy parts at the last step (NELASTIC), released on break
   int xi = -1;         ///< tangential displacement xi or elastic force h (3)
-  int a_prev = -1;     ///< contact radius of the last step (rescale models)
+  int a_prev = -1;     ///< contact radius of the last step (mindlin family, marshall)
   int roll = -1;       ///< rolling displacement (3)
   int twist = -1;      ///< twisting angle (1)
-  int size = 3;
+  int size = 3 + NELASTIC;
 };
 
 /* ---- normal-model helpers ----------------------------------------------------------------- */
@@ -193,10 +194,10 @@ class ContactModel {
   void setup(bool force_xi = false, bool force_aprev = false, bool force_roll = false,
              bool force_twist = false)
   {
-    int n = 3;
+    int n = 3 + NELASTIC;
     slots = HistorySlots();
     if (has_tangential_history() || force_xi) { slots.xi = n; n += 3; }
-    if (rescale() || force_aprev) slots.a_prev = n++;
+    if (needs_aprev() || force_aprev) slots.a_prev = n++;
     if (rolling.kind == RollingKind::SDS || force_roll) { slots.roll = n; n += 3; }
     if (twisting.kind != TwistingKind::None || force_twist) slots.twist = n++;
     slots.size = n;
@@ -214,6 +215,9 @@ class ContactModel {
     if (slots.twist >= 0) sign[slots.twist] = -1.0;
   }
 
+  /// The last step's contact radius is kept: rescale models (native), and for the energy of
+  /// springs whose stiffness grows with a (mindlin family, marshall twisting).
+  bool needs_aprev() const { return mindlin() || twisting.kind == TwistingKind::Marshall; }
   bool cohesive() const { return normal.kind != NormalKind::Hertz; }
   bool beyond_contact() const { return normal.kind == NormalKind::JKR; }
   bool has_tangential_history() const
@@ -255,6 +259,19 @@ class ContactModel {
     return rsq < radsum * radsum;
   }
 
+  /// When a contact ends (apart, or beyond pull-off), the elastic energy it still holds is lost:
+  /// adds it to diss[NDISS] (normal part: adhesion hysteresis, the JKR pull-off jump; springs:
+  /// sliding, rolling, twisting) and returns the total.
+  double release(const double *h, double *diss) const
+  {
+    const double *e = &h[slots.elastic];
+    diss[DISS_ADHESION] += e[ELASTIC_NORMAL];
+    diss[DISS_SLIDING] += e[ELASTIC_TANGENTIAL];
+    diss[DISS_ROLLING] += e[ELASTIC_ROLLING];
+    diss[DISS_TWISTING] += e[ELASTIC_TWISTING];
+    return e[0] + e[1] + e[2] + e[3];
+  }
+
   /// THE contact step.  history: history_size() values of this contact (touch slot 0: a new
   /// contact, which is initialised here).  advance = false in a run's setup force call and in
   /// single(): displacements are not incremented and no energy is counted (the Coulomb cap and
@@ -275,6 +292,16 @@ inline void cross3(const double *a, const double *b, double *c)
   c[1] = a[2] * b[0] - a[0] * b[2];
   c[2] = a[0] * b[1] - a[1] * b[0];
 }
+/// Work of a unit-stiffness spring's force over a Coulomb slip, as velocity Verlet applies it:
+/// the force averaged over the step (trapezoid, exact for a linear spring) times the slip,
+/// (1/2)(x_old + x_post) . (x_pre - x_post).
+inline double trapezoid_slip(const double *x_old, const double *x_pre, const double *x_post)
+{
+  double w = 0.0;
+  for (int k = 0; k < 3; k++) w += 0.5 * (x_old[k] + x_post[k]) * (x_pre[k] - x_post[k]);
+  return w;
+}
+
 /// Project v onto the plane normal to n and restore its length.
 inline void rotate_rescale(double *v, const double *n)
 {
@@ -292,6 +319,7 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
 {
   using detail::cross3;
   using detail::dot3;
+  using detail::trapezoid_slip;
   const double PI = 3.14159265358979323846;
   const double *n = g.n;
   const double delta = g.delta, reff = g.reff, dt = g.dt;
@@ -312,6 +340,9 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
     h[slots.touch] = 1.0;
     h[slots.t0] = contact_start_time(g.t_now, dt, delta, ddelta);
   }
+
+  // contact radius of the last step (mindlin stiffness, marshall twisting), before any update
+  const double a_old = slots.a_prev >= 0 ? h[slots.a_prev] : 0.0;
 
   // (2) contact radius, (3) elastic normal force and potential
   ContactCoeffs cc = g.coeffs ? *g.coeffs : contact_coeffs(law, g.meff, reff);
@@ -371,13 +402,26 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
     double *xi = &h[slots.xi];
     const bool force_form = force_history();
     const double kt = mindlin() ? tangential_k() * a : tangential.kt;
+    // spring energy: (1/2) k |xi|^2, or |h|^2 / (2 k) for the force forms
+    auto energy = [force_form](const double *x, double k) {
+      return force_form ? (k > 0.0 ? 0.5 * dot3(x, x) / k : 0.0) : 0.5 * k * dot3(x, x);
+    };
+    // stiffness change since the last step (mindlin: k a) and the rescale: energy that leaves
+    // the spring without work (signed; counted with sliding)
+    const double kt_old = mindlin() ? tangential_k() * a_old : kt;
+    const double el_old = energy(xi, kt_old);
     if (rescale() && a < h[slots.a_prev]) {
       const double s = a / h[slots.a_prev];
       for (int k = 0; k < 3; k++) xi[k] *= s;
     }
+    dsl = el_old - energy(xi, kt);
+    double x_old[3];
     if (advance) {
       const double rsht = std::fabs(dot3(xi, n));
       if ((force_form ? rsht : rsht * kt) > 1e-10 * fscrit) detail::rotate_rescale(xi, n);
+    }
+    for (int k = 0; k < 3; k++) x_old[k] = xi[k];    // in this step's tangent plane
+    if (advance) {
       for (int k = 0; k < 3; k++) xi[k] += force_form ? -kt * dt * vtr[k] : dt * vtr[k];
       if (rescale()) h[slots.a_prev] = a;
     }
@@ -386,26 +430,29 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
       fdmp[k] = -eta_t * vtr[k];
       ft[k] = (force_form ? xi[k] : -kt * xi[k]) + fdmp[k];
     }
-    const double el_before = force_form ? (kt > 0.0 ? 0.5 * dot3(xi, xi) / kt : 0.0)
-                                        : 0.5 * kt * dot3(xi, xi);
+    const double x_pre[3] = {xi[0], xi[1], xi[2]};
     const double magfs = std::sqrt(dot3(ft, ft));
     if (magfs > fscrit) {
-      if (dot3(xi, xi) != 0.0) {
+      if (dot3(x_pre, x_pre) != 0.0) {
         const double s = fscrit / magfs;
         for (int k = 0; k < 3; k++) {
           ft[k] *= s;
           xi[k] = force_form ? ft[k] - fdmp[k] : -(ft[k] - fdmp[k]) / kt;
         }
-        // the cap scales the dashpot too: count its share as damping, the rest as sliding
-        dtd = s * eta_t * dot3(vtr, vtr) * dt;
+        // the capped force is the rescaled spring plus the whole dashpot (native's rewrite of
+        // xi), so the dashpot still dissipates eta |v|^2 dt.  Sliding friction: the slip
+        // (the displacement the cap removes) times the spring force averaged over the step (the
+        // trapezoid of velocity Verlet, under which a linear spring conserves energy exactly)
+        dtd = eta_t * dot3(vtr, vtr) * dt;
+        dsl += force_form ? (kt > 0.0 ? trapezoid_slip(x_old, x_pre, xi) / kt : 0.0)
+                          : kt * trapezoid_slip(x_old, x_pre, xi);
       } else {
         ft[0] = ft[1] = ft[2] = 0.0;
       }
     } else {
       dtd = eta_t * dot3(vtr, vtr) * dt;
     }
-    el_t = force_form ? (kt > 0.0 ? 0.5 * dot3(xi, xi) / kt : 0.0) : 0.5 * kt * dot3(xi, xi);
-    dsl = el_before - el_t;
+    el_t = energy(xi, kt);
     if (!(dtd >= 0.0)) dtd = 0.0;
   }
 
@@ -419,11 +466,12 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
     res.torque_j[k] = g.wall ? 0.0 : -dj * nxf[k];
   }
   if (!g.wall) {
-    // work of F_t on the lever-arm difference, which the slip velocity (radii r_i, r_j) omits
+    // the torques act at r - delta/2, the slip velocity uses r: the work of F_t on the
+    // difference, -(delta/2) F_t . ((w_i + w_j) x n), leaves the bodies but not into the spring
     double ws[3], wsxn[3];
     for (int k = 0; k < 3; k++) ws[k] = g.omega_i[k] + g.omega_j[k];
     cross3(ws, n, wsxn);
-    dsl += 0.5 * delta * dot3(ft, wsxn) * dt;
+    dsl -= 0.5 * delta * dot3(ft, wsxn) * dt;
   }
 
   // (9) rolling
@@ -439,19 +487,18 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
     for (int k = 0; k < 3; k++) vrl[k] *= reff;
     double xr[3] = {h[slots.roll], h[slots.roll + 1], h[slots.roll + 2]};
     const double kr = rolling.k, frcrit = rolling.mu * F0;
-    if (advance) {
-      if (std::fabs(dot3(xr, n)) * kr > 1e-10 * frcrit) detail::rotate_rescale(xr, n);
-      for (int k = 0; k < 3; k++) xr[k] += dt * vrl[k];
-    }
+    if (advance && std::fabs(dot3(xr, n)) * kr > 1e-10 * frcrit) detail::rotate_rescale(xr, n);
+    const double xr_old[3] = {xr[0], xr[1], xr[2]};
+    if (advance) for (int k = 0; k < 3; k++) xr[k] += dt * vrl[k];
+    const double xr_pre[3] = {xr[0], xr[1], xr[2]};
     for (int k = 0; k < 3; k++) fr[k] = -kr * xr[k] - rolling.gamma * vrl[k];
-    const double el_before = 0.5 * kr * dot3(xr, xr);
     const double magfr = std::sqrt(dot3(fr, fr));
     if (magfr > frcrit) {
-      if (dot3(xr, xr) != 0.0) {
+      if (dot3(xr_pre, xr_pre) != 0.0) {
         for (int k = 0; k < 3; k++) xr[k] = -frcrit / (kr * magfr) * fr[k] - rolling.gamma / kr * vrl[k];
         const double s = frcrit / magfr;
         for (int k = 0; k < 3; k++) fr[k] *= s;
-        drl = s * rolling.gamma * dot3(vrl, vrl) * dt;
+        drl = rolling.gamma * dot3(vrl, vrl) * dt + kr * trapezoid_slip(xr_old, xr_pre, xr);
       } else {
         fr[0] = fr[1] = fr[2] = 0.0;
       }
@@ -459,7 +506,6 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
       drl = rolling.gamma * dot3(vrl, vrl) * dt;
     }
     el_r = 0.5 * kr * dot3(xr, xr);
-    drl += el_before - el_r;
     if (advance) for (int k = 0; k < 3; k++) h[slots.roll + k] = xr[k];
     double tr[3];
     cross3(n, fr, tr);
@@ -485,26 +531,31 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
     }
     const double wt = dot3(relrot, n);
     double &xt = h[slots.twist];
+    // marshall: k_tw grows with a^2; the energy change at fixed angle is not work (signed)
+    const double ktw_old =
+        twisting.kind == TwistingKind::Marshall ? 0.5 * tangential_k() * a_old * a_old : ktw;
+    dtw = 0.5 * (ktw_old - ktw) * xt * xt;
+    const double xt_old = xt;
     if (advance) xt += wt * dt;
     double tq = -ktw * xt - etw * wt;
-    const double el_before = 0.5 * ktw * xt * xt;
+    const double xt_pre = xt;
     const double sgn = (wt > 0.0) - (wt < 0.0);
     if (std::fabs(tq) > tcrit) {
       xt = (tcrit * sgn - etw * wt) / ktw;
-      const double frac = std::fabs(tq) > 0.0 ? tcrit / std::fabs(tq) : 0.0;
-      dtw = frac * etw * wt * wt * dt;
+      dtw += etw * wt * wt * dt + 0.5 * ktw * (xt_old + xt) * (xt_pre - xt);
       tq = -tcrit * sgn;
     } else {
-      dtw = etw * wt * wt * dt;
+      dtw += etw * wt * wt * dt;
     }
     el_w = 0.5 * ktw * xt * xt;
-    dtw += el_before - el_w;
     res.tau_twist = tq;
     for (int k = 0; k < 3; k++) {
       res.torque_i[k] += tq * n[k];
       if (!g.wall) res.torque_j[k] -= tq * n[k];
     }
   }
+
+  if (advance && slots.a_prev >= 0 && !rescale()) h[slots.a_prev] = a;
 
   // (11) heat
   res.heat = heat.kind == HeatKind::Area ? heat.k * PI * a * a * (g.T_j - g.T_i) : 0.0;
@@ -525,7 +576,10 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
   double sum = 0.0;
   for (int k = 0; k < NDISS; k++) sum += res.dissipated[k];
   res.power = dt > 0.0 ? sum / dt : 0.0;
-  if (advance) h[slots.energy] += sum;
+  if (advance) {
+    h[slots.energy] += sum;
+    for (int k = 0; k < NELASTIC; k++) h[slots.elastic + k] = res.elastic[k];
+  }
 }
 
 }    // namespace viscontact

@@ -6,6 +6,7 @@
 
 #include "lammps.h"
 
+#include "compute_viscontact_energy.h"
 #include "fix_viscontact_history.h"
 #include "pair_viscontact.h"
 #include "fix_wall_viscontact.h"
@@ -49,6 +50,11 @@ static Fix *fix_wall_viscontact_creator(LAMMPS *lmp, int argc, char **argv)
   return new FixWallViscontact(lmp, argc, argv);
 }
 
+static Compute *compute_viscontact_energy_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  return new ComputeViscontactEnergy(lmp, argc, argv);
+}
+
 void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
 {
   lammpsplugin_t plugin;
@@ -61,7 +67,7 @@ void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
 
   plugin.style = "pair";
   plugin.name = "viscontact";
-  plugin.info = "viscontact: Hertz + viscoelastic damping laws (LH Ts KK Li Hunt Jian power)";
+  plugin.info = "viscontact: granular contact model with the viscoelastic damping laws";
   plugin.creator.v1 = (lammpsplugin_factory1 *) &pair_viscontact_creator;
   (*register_plugin)(&plugin, lmp);
 
@@ -75,5 +81,11 @@ void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.name = "viscontact/wall";
   plugin.info = "viscontact: plane and cylinder walls with the viscontact laws";
   plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_wall_viscontact_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.style = "compute";
+  plugin.name = "viscontact/energy";
+  plugin.info = "viscontact: dissipated and elastic contact energy by mechanism";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &compute_viscontact_energy_creator;
   (*register_plugin)(&plugin, lmp);
 }
