@@ -277,7 +277,7 @@ BAD = [
     (GOOD.replace("mindlin 0.3", "mindlin -0.1"),
      "tangential mindlin MU must be a finite number in [0, 10]"),
     (GOOD.replace("tangential mindlin 0.3", "tangential coulomb"),
-     "tangential must be followed by none or mindlin MU"),
+     "tangential must be followed by one of none, linear_nohistory"),
     (GOOD.replace(" tangential mindlin 0.3", ""), "missing tangential"),
     (GOOD.replace("end force", "end sideways"), "end must be followed by force"),
     (GOOD.replace("damping KK alpha 0.2 vref 1.0 ", ""), "missing damping LAW"),
@@ -286,7 +286,7 @@ BAD = [
     (GOOD + " damping KK alpha 0.1 vref 1", "damping given twice"),
     # region walls, wiggle, shear, contacts
     (GOOD.replace("zplane 0.0 NULL", "region nowhere"), "region 'nowhere' does not exist"),
-    (GOOD.replace("zplane 0.0 NULL", "region"), "region needs the ID of a region"),
+    ("region", "region needs the ID of a region"),
     (GOOD.replace("zplane 0.0 NULL", "region ball"), None),
     (GOOD.replace("zplane 0.0 NULL", "region ball") + " wiggle z 0.1 1",
      "wiggle cannot be used with a region wall"),
@@ -312,6 +312,27 @@ BAD = [
     (GOOD.replace("zplane 0.0 NULL", "zcylinder 0.5") + " shear z 1", None),
     (GOOD + " contacts", None),
     (GOOD + " contacts contacts", "contacts given twice"),
+    # sub-models: normal, rolling, twisting, heat with temperature
+    (GOOD.replace(" end force", "") + " normal jkr 0.05", None),
+    (GOOD.replace(" end force", "") + " normal dmt 0.05 rolling sds 10 0.1 0.1 twisting sds 1 0.1 0.1",
+     None),
+    (GOOD + " normal foo", "normal must be followed by hertz, dmt W or jkr W, got 'foo'"),
+    (GOOD + " normal jkr", "normal jkr needs W"),
+    (GOOD + " normal jkr -1", "normal jkr W must be a finite number in [0, 1e+300]"),
+    (GOOD + " normal jkr 0.05", "end force is not allowed with the cohesive normal model jkr"),
+    (GOOD + " normal hertz normal hertz", "normal given twice"),
+    (GOOD + " rolling sds 0 0.1 0.1", "rolling sds KR must be a finite number in (0, 1e+300]"),
+    (GOOD + " rolling spring 1 1 1", "rolling must be followed by sds KR GAMMAR MUR"),
+    (GOOD + " twisting marshall", None),
+    (GOOD.replace("mindlin 0.3", "none") + " twisting marshall",
+     "twisting marshall needs a tangential spring"),
+    (GOOD + " heat area 1", "heat area needs the wall temperature"),
+    (GOOD + " temperature 300", "temperature is only used with heat area K"),
+    (GOOD + " heat area 1 temperature -1", "temperature T must be a finite number in [0, 1e+300]"),
+    (GOOD + " heat area 1 temperature", "temperature needs the wall temperature T or v_NAME"),
+    (GOOD + " heat area 1 temperature 300 temperature 300", "temperature given twice"),
+    (GOOD + " heat area 1 temperature 300",
+     "heat area needs per-atom temperature and heatflow (fix property/atom temperature heatflow"),
 ]
 
 _ERR_INPUT = """\
@@ -355,14 +376,25 @@ def test_bad_wall_input_one_error(args, message):
 
 
 @pytest.mark.parametrize("kw,message", [
+    (dict(pair="fix p all property/atom temperature heatflow\nvariable T equal 300"), None),
+    (dict(pair="fix p all property/atom temperature heatflow\nvariable T atom 300"),
+     "temperature variable 'T' must be equal-style"),
+    (dict(pair="fix p all property/atom temperature heatflow"),
+     "temperature variable 'T' does not exist"),
     (dict(pair="fix p all property/atom temperature heatflow\nfix hf all heat/flow constant 1"),
      "fix viscontact/wall does not conduct heat; fix hf (heat/flow)"),
     (dict(style="atomic", nve=""), "requires atom_style sphere"),
     (dict(zb="p"), "zplane cannot be used in a periodic dimension"),
 ])
 def test_bad_setup_one_error(kw, message):
-    err = _inprocess_error(GOOD, **kw)
+    args = GOOD + (" heat area 1 temperature v_T" if "temperature heatflow" in kw.get("pair", "")
+                   and "heat/flow" not in kw["pair"] else "")
+    err = _inprocess_error(args, **kw)
+    if message is None:
+        assert err is None, err
+        return
     assert err is not None and message in err, err
+    assert len([ln for ln in err.splitlines() if ln.startswith("ERROR")]) == 1
 
 
 def test_no_particle_material_one_error():

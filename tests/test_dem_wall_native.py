@@ -194,3 +194,92 @@ def test_contacts_array_as_native(name):
     ref = compare(f"{geom} contacts", regions, atoms + far, out=("f", "contacts"), steps=(0, 3))
     assert np.all(ref["contacts"][:-1, 0] == 1.0) and np.all(ref["contacts"][-1] == 0.0)
     np.testing.assert_array_equal(ref["contacts"][:-1, 7], R)
+
+
+# ---- every sub-model at the wall ----------------------------------------------------------------
+
+def _models() -> dict:
+    """name -> (native model words, our model words, flat walls only): the same contact model
+    (SPEC equivalences: LH c0 = native damping velocity; KK c0 = eta0 m sqrt(R*) = native
+    viscoelastic for one size on a flat wall; Ts alpha = native tsuji)."""
+    from viscontact.audit.formulas import tsuji_polynomial
+
+    m = 4.0 / 3.0 * np.pi * R**3 * RHO
+    eta0 = 3000.0
+    kk = float(eta0 * m * np.sqrt(R))
+    w = 0.05    # surface energy [J/m^2]
+    hz = f"hertz/material {E!r} {C0} {NU} damping velocity"
+    ours_lh = f"damping LH c0 {C0}"
+    out = {}
+    for tang in ("linear_nohistory 0.5 0.4", "linear_history 2000 0.5 0.4",
+                 "mindlin NULL 0.5 0.4", "mindlin 8e6 0.0 0.4", "mindlin_rescale NULL 0.5 0.4",
+                 "mindlin/force NULL 0.5 0.4", "mindlin_rescale/force 8e6 0.5 0.05",
+                 "mindlin NULL 0.5 0.01"):
+        out[tang] = (f"{hz} tangential {tang} limit_damping",
+                     f"{ours_lh} end force tangential {tang}", False)
+    spin = "tangential mindlin NULL 0.5 0.4 rolling sds 50 0.02 0.1"
+    out["rolling twisting marshall"] = (f"{hz} {spin} twisting marshall limit_damping",
+                                        f"{ours_lh} end force {spin} twisting marshall", False)
+    out["rolling twisting sds"] = (f"{hz} {spin} twisting sds 1e-4 1e-6 0.01 limit_damping",
+                                   f"{ours_lh} end force {spin} twisting sds 1e-4 1e-6 0.01",
+                                   False)
+    out["slipping rolling twisting"] = (
+        f"{hz} tangential linear_history 2000 0.5 0.05 rolling sds 5000 0.02 0.001 "
+        "twisting sds 1 1e-6 1e-5",
+        f"{ours_lh} end overlap tangential linear_history 2000 0.5 0.05 rolling sds 5000 0.02 "
+        "0.001 twisting sds 1 1e-6 1e-5", False)
+    for normal in ("dmt", "jkr"):
+        out[f"{normal} LH"] = (
+            f"{normal} {E!r} {C0} {NU} {w} damping velocity tangential mindlin NULL 0.5 0.4 "
+            "rolling sds 50 0.02 0.1",
+            f"normal {normal} {w} {ours_lh} tangential mindlin NULL 0.5 0.4 "
+            "rolling sds 50 0.02 0.1", False)
+        out[f"{normal} KK"] = (
+            f"{normal} {E!r} {eta0} {NU} {w} damping viscoelastic tangential linear_history "
+            "2000 0.5 0.4 twisting marshall",
+            f"normal {normal} {w} damping KK c0 {kk!r} tangential linear_history 2000 0.5 0.4 "
+            "twisting marshall", True)
+    out["KK"] = (f"hertz/material {E!r} {eta0} {NU} damping viscoelastic tangential mindlin "
+                 "NULL 0.5 0.4 limit_damping",
+                 f"damping KK c0 {kk!r} tangential mindlin NULL 0.5 0.4", True)
+    e = 0.7
+    out["Ts"] = (f"hertz/material {E!r} {e} {NU} damping tsuji tangential mindlin NULL 0.5 0.4 "
+                 "limit_damping",
+                 f"damping Ts alpha {tsuji_polynomial(e)!r} vref 1 tangential mindlin NULL 0.5 "
+                 "0.4", False)
+    return out
+
+
+MODEL_NAMES = list(_models())
+MODEL_GEOMETRIES = ["planes lo hi", "region corner", "zcylinder", "region rotate"]
+
+
+@pytest.mark.parametrize("model", MODEL_NAMES)
+def test_submodels_as_native(model):
+    """Each tangential model, rolling, twisting, dmt and jkr (LH and KK), Ts: forces and torques
+    after 1 and 50 steps equal native on planes, the corner (two contacts), the cylinder and a
+    turning region (the last two have curved walls: not for KK, whose c0 equals native's for
+    one R* only)."""
+    native, ours, flat_only = _models()[model]
+    for name in MODEL_GEOMETRIES:
+        geom, regions, atoms = GEOMETRIES[name]
+        if flat_only and name in ("zcylinder", "region rotate"):
+            continue
+        ref = compare(geom, regions, atoms, native_model=native, our_model=ours, steps=(1, 50))
+        assert np.abs(ref["torque"]).max() > 0, (model, name)
+
+
+def test_heat_as_native():
+    """heat area K with a wall at temperature T (a constant, and v_T an equal-style variable):
+    the heat flow into each sphere equals native's, with forces and torques."""
+    extra = ["fix p all property/atom temperature heatflow", "set atom 1 temperature 300",
+             "set atom 2 temperature 350", "variable T equal 320+1e5*time"]
+    for geom in ("zplane -0.1 0.1 temperature 320", "region c temperature v_T"):
+        regions = GEOMETRIES["region corner"][1] if geom.startswith("region") else []
+        atoms = GEOMETRIES["region corner" if regions else "planes lo hi"][2]
+        ref = compare(geom, regions, atoms,
+                      native_model=(f"hertz/material {E!r} {C0} {NU} damping velocity tangential "
+                                    f"mindlin NULL 0.5 0.4 heat area 2.5 limit_damping"),
+                      our_model=f"damping LH c0 {C0} tangential mindlin NULL 0.5 0.4 heat area 2.5",
+                      extra=extra, out=("f", "torque", "heatflow"), steps=(0, 1, 20))
+        assert np.all(np.abs(ref["heatflow"]) > 0), geom

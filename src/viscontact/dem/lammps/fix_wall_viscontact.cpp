@@ -63,7 +63,8 @@ int FixWallViscontact::parse_dim(const std::string &key, const std::string &text
 }
 
 FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), region(nullptr), tmax(1), store(nullptr)
+    Fix(lmp, narg, arg), region(nullptr), tmax(1), store(nullptr), energy_on(false),
+    ediss(nullptr), eel(nullptr), heat_on(false)
 {
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
     fail("requires atom_style sphere (radius, rmass, omega, torque)");
@@ -110,6 +111,8 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
   // materials, motion and the law
   std::vector<std::string> args(arg + iarg, arg + narg);
   viscontact::LawKeywords kw;
+  viscontact::NormalParams normal;
+  bool seen_normal = false;
   bool seen_wall = false;
   has_particle = false;
   wall_rigid = false;
@@ -125,6 +128,11 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
   while (i < args.size()) {
     std::string err;
     if (kw.take(args, i, err)) {
+      if (!err.empty()) fail(err);
+    } else if (args[i] == "normal") {
+      if (seen_normal) fail("normal given twice");
+      seen_normal = true;
+      err = viscontact::parse_wall_normal(args, i, normal);
       if (!err.empty()) fail(err);
     } else if (args[i] == "wall_material") {
       if (seen_wall) fail("wall_material given twice");
@@ -197,9 +205,13 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
     }
   }
   if (!seen_wall) fail("missing wall_material (E NU | rigid)");
-  const std::string err = kw.finish();
+  const std::string err = kw.finish(normal.kind);
   if (!err.empty()) fail(err);
-  law = kw.lp;
+  model = kw.model(normal);
+  heat_on = model.heat.kind != viscontact::HeatKind::None;
+  if (heat_on && !has_twall)
+    fail("heat area needs the wall temperature: temperature T or temperature v_NAME");
+  if (!heat_on && has_twall) fail("temperature is only used with heat area K");
 
   if (motion != STILL) {
     const char *what = motion == WIGGLE ? "wiggle" : "shear";
@@ -225,14 +237,16 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
 
   // per-atom history: migrates with atoms, goes to restart files; the global record keeps a
   // region's motion and the wiggle origin
-  nvalues = 1 + tmax * SLOT;
+  hsize = model.history_size();
+  slotsize = 1 + hsize;
+  nvalues = 1 + tmax * slotsize;
+  kept.assign(static_cast<size_t>(tmax) * slotsize, 0.0);
   restart_peratom = 1;
   restart_global = 1;
   create_attribute = 1;
-  maxexchange = nvalues + (peratom_flag ? size_peratom_cols : 0);
+  maxexchange = nvalues + viscontact::NDISS + (peratom_flag ? size_peratom_cols : 0);
   array_atom = nullptr;
   touches.reserve(tmax);
-  t2s.reserve(tmax);
   grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
   atom->add_callback(Atom::RESTART);
@@ -245,6 +259,8 @@ FixWallViscontact::~FixWallViscontact()
   atom->delete_callback(id, Atom::RESTART);
   memory->destroy(store);
   memory->destroy(array_atom);
+  memory->destroy(ediss);
+  memory->destroy(eel);
 }
 
 int FixWallViscontact::setmask()
@@ -256,7 +272,13 @@ int FixWallViscontact::setmask()
 
 void FixWallViscontact::init()
 {
-  viscontact::refuse_heat(lmp, "fix viscontact/wall");
+  if (heat_on) {
+    if (!atom->temperature_flag || !atom->heatflow_flag)
+      fail("heat area needs per-atom temperature and heatflow (fix property/atom temperature "
+           "heatflow, integrated by fix heat/flow)");
+  } else {
+    viscontact::refuse_heat(lmp, "fix viscontact/wall");
+  }
   masses.init(lmp, "fix viscontact/wall");
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
     fail("requires atom_style sphere (radius, rmass, omega, torque)");
@@ -285,7 +307,8 @@ void FixWallViscontact::init()
   auto *pair = dynamic_cast<PairViscontact *>(force->pair_match("viscontact", 1));
   // a rigid wall is an infinitely stiff material: its terms of 1/E* and 1/G* vanish
   const double Ewall = wall_rigid ? INFINITY : wall_E;
-  type_law.assign(ntypes + 1, law);
+  type_model.assign(ntypes + 1, model);
+  type_ok.assign(ntypes + 1, 0);
   for (int t = 1; t <= ntypes; t++) {
     double E = particle_E, nu = particle_nu;
     if (!has_particle && !(pair && pair->type_material(t, E, nu))) {
@@ -293,11 +316,12 @@ void FixWallViscontact::init()
         fail("no material for atom type " + std::to_string(t) +
              ": give particle E NU, or pair_style viscontact with pair_coeff " +
              std::to_string(t) + " " + std::to_string(t));
-      type_law[t].Estar = type_law[t].Gstar = 0.0;    // an error if it ever touches the wall
-      continue;
+      continue;    // an error if it ever touches the wall
     }
-    type_law[t].Estar = viscontact::mix_Estar(E, nu, Ewall, wall_nu);
-    type_law[t].Gstar = viscontact::mix_Gstar(E, nu, Ewall, wall_nu);
+    type_model[t].law.Estar = viscontact::mix_Estar(E, nu, Ewall, wall_nu);
+    type_model[t].law.Gstar = viscontact::mix_Gstar(E, nu, Ewall, wall_nu);
+    type_model[t].setup();
+    type_ok[t] = 1;
   }
   cache.assign(1 << CACHE_BITS, Coeffs());    // the materials may have changed
 }
@@ -311,7 +335,7 @@ const viscontact::ContactCoeffs &FixWallViscontact::coeffs(int type, double m, d
       static_cast<uint64_t>(type) * 0x165667B19E3779F9ULL;
   Coeffs &c = cache[(key * 0xD6E8FEB86659FD93ULL) >> (64 - CACHE_BITS)];
   if (c.type != type || c.m != m || c.r != r) {    // wall: m* = m, r = R* (10.8)
-    c.cc = viscontact::contact_coeffs(type_law[type], m, r);
+    c.cc = viscontact::contact_coeffs(type_model[type].law, m, r);
     if (!viscontact::coeffs_finite(c.cc))
       error->one(FLERR, std::string(PREFIX) + "a sphere of type " + std::to_string(type) +
                             " gets " + viscontact::describe_coeffs(c.cc) + "; the values are "
@@ -340,7 +364,10 @@ void FixWallViscontact::min_post_force(int vflag)
 
 /* ----------------------------------------------------------------------
    the wall faces near sphere i: planes and cylinder as LAMMPS fix wall/gran (the nearer plane
-   of LO/HI; the cylinder's +-2R curvature), a region through Region::surface()
+   of LO/HI; the cylinder's +-2R curvature), a region through Region::surface().  Planes and
+   the cylinder reach out to a jkr contact's pull-off distance (whether a face touches is the
+   contact model's decision, with the face's touch flag); a region reaches the sphere radius
+   only (as native: region jkr contacts end at zero overlap).
 ------------------------------------------------------------------------- */
 
 void FixWallViscontact::find_touches(int i, double wlo, double whi, const double vplane[3])
@@ -348,6 +375,7 @@ void FixWallViscontact::find_touches(int i, double wlo, double whi, const double
   touches.clear();
   const double *x = atom->x[i];
   const double rad = atom->radius[i];
+  const viscontact::ContactModel &m = type_model[atom->type[i]];
   Touch c;
   c.rwall = 0.0;
   c.n[0] = c.n[1] = c.n[2] = 0.0;
@@ -363,7 +391,7 @@ void FixWallViscontact::find_touches(int i, double wlo, double whi, const double
     const double dist = del1 < del2 ? del1 : -del2;
     c.iwall = del1 < del2 ? 0 : 1;
     c.r = std::fabs(dist);
-    if (c.r >= rad || c.r == 0.0) return;
+    if (c.r >= rad + m.pulloff_distance(rad) || c.r == 0.0) return;
     c.n[d] = dist > 0.0 ? 1.0 : -1.0;
     touches.push_back(c);
   } else if (wallstyle == ZCYLINDER) {
@@ -371,14 +399,15 @@ void FixWallViscontact::find_touches(int i, double wlo, double whi, const double
     const double delr = cylradius - delxy;
     c.iwall = 0;
     c.r = std::fabs(delr);
-    if (delr > rad || c.r >= rad || c.r == 0.0 || delxy == 0.0) return;
+    // as native: a sphere inside touches a concave wall of curvature radius -2R, one outside
+    // the convex outer face, +2R
+    c.rwall = delxy < cylradius ? -2.0 * cylradius : 2.0 * cylradius;
+    const double reach = rad + m.pulloff_distance(effective_radius(rad, c.rwall));
+    if (delr > rad || c.r >= reach || c.r == 0.0 || delxy == 0.0) return;
     // n from the surface into the sphere: inwards for a sphere inside, outwards outside
     const double s = delr > 0.0 ? -1.0 : 1.0;
     c.n[0] = s * x[0] / delxy;
     c.n[1] = s * x[1] / delxy;
-    // as native: a sphere inside touches a concave wall of curvature radius -2R, one outside
-    // the convex outer face, +2R
-    c.rwall = delxy < cylradius ? -2.0 * cylradius : 2.0 * cylradius;
     if (motion == SHEAR && axis != 2) {    // a turning cylinder, surface speed V
       c.vwall[0] = vshear * x[1] / delxy;
       c.vwall[1] = -vshear * x[0] / delxy;
@@ -409,73 +438,66 @@ void FixWallViscontact::find_touches(int i, double wlo, double whi, const double
 }
 
 /* ----------------------------------------------------------------------
-   one sphere-wall contact: atom i, the contact's history hist (touch flag, model history;
-   updated in place when update_history), the face c.  Adds force and torque to atom i.
+   one sphere-wall contact through the one contact step (ContactModel::evaluate): atom i, the
+   contact's history h (updated in place), the face c.  Adds force, torque, heat flow and
+   energy to atom i.
 ------------------------------------------------------------------------- */
 
 void FixWallViscontact::contact(int i, double *h, const Touch &c, bool update_history,
                                 double t_now)
 {
+  const int type = atom->type[i];
+  const viscontact::ContactModel &m = type_model[type];
   const double r = atom->radius[i];
-  const double delta = r - c.r;
-  const double *n = c.n;
-  // R* = r rw/(r + rw) with the wall's signed curvature radius rw (0: flat, R* = r), as
-  // native fix wall/gran(/region); it feeds k_Hertz, a, c0/tau and the Mindlin stiffness
-  const double reff = c.rwall == 0.0 ? r : r * c.rwall / (r + c.rwall);
-  const double *vi = atom->v[i];
-  const double v[3] = {vi[0] - c.vwall[0], vi[1] - c.vwall[1], vi[2] - c.vwall[2]};
-  const double *om = atom->omega[i];
-  const double dt = update->dt;
-  const viscontact::LawParams &lp = type_law[atom->type[i]];
-  if (lp.Estar == 0.0)    // a type absent from the group at init (e.g. inserted since)
-    error->one(FLERR, std::string(PREFIX) + "no material for atom type " +
-                          std::to_string(atom->type[i]) +
-                          ": give particle E NU, or pair_coeff I I of pair viscontact");
-
-  double wr[3] = {r * om[0], r * om[1], r * om[2]};
-  double vtr[3];
-  const double ddelta = -viscontact::relative_tangential_velocity(v, wr, n, vtr);
-
-  if (h[0] == 0.0) {    // a new contact: zero spring, the clock starts now
-    h[0] = 1.0;
-    h[1] = h[2] = h[3] = 0.0;
-    h[4] = viscontact::contact_start_time(t_now, dt, delta, ddelta);
-  }
-  const viscontact::ContactCoeffs &cc = coeffs(atom->type[i], masses.mass(i, atom->rmass), reff);
-  const double fn = viscontact::clamp_normal(
-      viscontact::normal_force(delta, ddelta, viscontact::contact_clock(t_now, h[4]), cc.k, cc.c0,
-                               cc.tau, lp.p),
-      lp.clamp);
-  if (!std::isfinite(fn))
-    error->one(FLERR, std::string(PREFIX) + "the normal force on atom " +
-                          std::to_string(atom->tag[i]) + " is not finite (overlap " +
-                          viscontact::format_number(delta) + "); check the time step and the values");
-
-  double ft[3] = {0.0, 0.0, 0.0};
-  if (lp.friction) {
-    const double kt = viscontact::mindlin_stiffness(lp.Gstar, reff, delta);
-    viscontact::mindlin_tangential(&h[1], n, vtr, dt, kt, lp.mu * std::fabs(fn), ft,
-                                   update_history);
-    double tq[3];
-    viscontact::tangential_torque(n, ft, r, tq);
-    double *torque = atom->torque[i];
-    torque[0] += tq[0];
-    torque[1] += tq[1];
-    torque[2] += tq[2];
-  }
-  double *f = atom->f[i];
-  double fc[3];
+  viscontact::ContactGeometry g;
   for (int d = 0; d < 3; d++) {
-    fc[d] = fn * n[d] + ft[d];
-    f[d] += fc[d];
-    wallforce[d] += fc[d];
+    g.n[d] = c.n[d];
+    g.vr[d] = atom->v[i][d] - c.vwall[d];
+    g.omega_i[d] = atom->omega[i][d];
+    g.omega_j[d] = 0.0;
+  }
+  g.delta = r - c.r;
+  g.r_i = r;
+  g.r_j = 0.0;
+  // R* = r rw/(r + rw) with the wall's signed curvature radius rw (0: flat, R* = r), as
+  // native fix wall/gran(/region); m* = m (or the rigid body's mass)
+  g.reff = effective_radius(r, c.rwall);
+  g.meff = masses.mass(i, atom->rmass);
+  g.dt = update->dt;
+  g.t_now = t_now;
+  if (heat_on) {
+    g.T_i = atom->temperature[i];
+    g.T_j = twall;
+  }
+  g.wall = true;
+  g.coeffs = &coeffs(type, g.meff, g.reff);
+
+  viscontact::ContactResult res;
+  m.evaluate(g, h, update_history, res);
+  if (!std::isfinite(res.fn) || !std::isfinite(res.force[0]) || !std::isfinite(res.force[1]) ||
+      !std::isfinite(res.force[2]))
+    error->one(FLERR, std::string(PREFIX) + "the force on atom " + std::to_string(atom->tag[i]) +
+                          " is not finite (overlap " + viscontact::format_number(g.delta) +
+                          "); check the time step and the values");
+
+  double *f = atom->f[i];
+  double *torque = atom->torque[i];
+  for (int d = 0; d < 3; d++) {
+    f[d] += res.force[d];
+    torque[d] += res.torque_i[d];
+    wallforce[d] += res.force[d];
+  }
+  if (heat_on) atom->heatflow[i] += res.heat;
+  if (energy_on) {    // a wall contact counts fully on its atom
+    for (int k = 0; k < viscontact::NDISS; k++) ediss[i][k] += res.dissipated[k];
+    for (int k = 0; k < viscontact::NELASTIC; k++) eel[i][k] += res.elastic[k];
   }
   if (peratom_flag) {    // native's 8 columns; the last contact of the atom wins
     double *a = array_atom[i];
     a[0] = 1.0;
     for (int d = 0; d < 3; d++) {
-      a[1 + d] = fc[d];
-      a[4 + d] = atom->x[i][d] - c.r * n[d];
+      a[1 + d] = res.force[d];
+      a[4 + d] = atom->x[i][d] - c.r * c.n[d];
     }
     a[7] = r;
   }
@@ -483,6 +505,7 @@ void FixWallViscontact::contact(int i, double *h, const Touch &c, bool update_hi
 
 void FixWallViscontact::post_force(int /*vflag*/)
 {
+  // history advances only on regular steps (not in a run's setup), as LAMMPS granular
   const bool update_history = !update->setupflag;
   const double t_now = viscontact::time_now(update);
   const int *mask = atom->mask;
@@ -491,6 +514,7 @@ void FixWallViscontact::post_force(int /*vflag*/)
   wallforce[0] = wallforce[1] = wallforce[2] = 0.0;
   wallforce_summed = false;
   if (neighbor->ago == 0) masses.refresh(atom);    // rigid-body masses of the local atoms
+  if (heat_on && !tstr.empty()) twall = input->variable->compute_equal(tvar);
 
   // the wall's position and velocity this step (planes, cylinder)
   double wlo = lo, whi = hi;
@@ -513,43 +537,49 @@ void FixWallViscontact::post_force(int /*vflag*/)
   }
   if (peratom_flag)
     for (int i = 0; i < nlocal; i++)
-      for (int m = 0; m < size_peratom_cols; m++) array_atom[i][m] = 0.0;
+      for (int k = 0; k < size_peratom_cols; k++) array_atom[i][k] = 0.0;
+  if (energy_on)
+    for (int i = 0; i < nlocal; i++)
+      for (int k = 0; k < viscontact::NELASTIC; k++) eel[i][k] = 0.0;
 
-  std::vector<double> kept(tmax * SLOT);
+  const int touch = model.history_slots().touch;
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     if (region && !region->match(atom->x[i][0], atom->x[i][1], atom->x[i][2])) {
-      // outside the region: no contact, and no stale history to come back with the atom
-      if (update_history) store[i][0] = 0.0;
+      store[i][0] = 0.0;    // outside: no contact, and no stale history to come back with it
       continue;
     }
+    if (!type_ok[atom->type[i]])    // a type without material (e.g. inserted since init)
+      error->one(FLERR, std::string(PREFIX) + "no material for atom type " +
+                            std::to_string(atom->type[i]) +
+                            ": give particle E NU, or pair_coeff I I of pair viscontact");
     find_touches(i, wlo, whi, vplane);
 
-    // each face's history by its wall index; faces no longer touched are forgotten and a new
-    // face starts from zero
+    // each face's history by its wall index; faces no longer touching are forgotten, and a
+    // new face starts from zero
     const int nold = static_cast<int>(store[i][0]);
+    const double rad = atom->radius[i];
     int nkept = 0;
     for (const Touch &c : touches) {
-      double *h = &kept[nkept * SLOT];
+      double *h = &kept[static_cast<size_t>(nkept) * slotsize];
       h[0] = c.iwall;
       double *hist = h + 1;
-      for (int m = 0; m < HIST; m++) hist[m] = 0.0;
+      for (int k = 0; k < hsize; k++) hist[k] = 0.0;
       for (int k = 0; k < nold; k++) {
         const double *s = slot(i, k);
         if (static_cast<int>(s[0]) == c.iwall) {
-          for (int m = 0; m < HIST; m++) hist[m] = s[1 + m];
+          for (int q = 0; q < hsize; q++) hist[q] = s[1 + q];
           break;
         }
       }
+      const double reff = effective_radius(rad, c.rwall);
+      if (!type_model[atom->type[i]].touching(c.r * c.r, rad, reff, hist[touch] != 0.0))
+        continue;
       contact(i, hist, c, update_history, t_now);
       nkept++;
     }
-    // a run's setup computes forces from the history but never changes it (as pair
-    // viscontact and pair granular): a contact new at setup starts at the first step
-    if (update_history) {
-      store[i][0] = nkept;
-      for (int m = 0; m < nkept * SLOT; m++) store[i][1 + m] = kept[m];
-    }
+    store[i][0] = nkept;
+    for (int k = 0; k < nkept * slotsize; k++) store[i][1 + k] = kept[k];
   }
 }
 
@@ -589,17 +619,30 @@ void FixWallViscontact::restart(char *buf)
   }
 }
 
-/* ---- per-atom history: grow, copy, migrate, restart ---------------------------------------- */
+/* ---- per-atom history and energy: grow, copy, migrate, restart ----------------------------
+
+   Per atom: the contacts' store (nvalues), the cumulative dissipated energy (NDISS; migrates
+   and goes to restart files), the elastic energy (NELASTIC; recomputed at every force
+   computation) and, with `contacts`, native's 8 columns. */
+
+namespace {
+constexpr int NDISS = viscontact::NDISS;
+constexpr int NELASTIC = viscontact::NELASTIC;
+}    // namespace
 
 void FixWallViscontact::grow_arrays(int nmax)
 {
   memory->grow(store, nmax, nvalues, "viscontact/wall:history");
+  memory->grow(ediss, nmax, NDISS, "viscontact/wall:dissipated");
+  memory->grow(eel, nmax, NELASTIC, "viscontact/wall:elastic");
   if (peratom_flag) memory->grow(array_atom, nmax, size_peratom_cols, "viscontact/wall:contacts");
 }
 
 void FixWallViscontact::copy_arrays(int i, int j, int /*delflag*/)
 {
   for (int m = 0; m < nvalues; m++) store[j][m] = store[i][m];
+  for (int m = 0; m < NDISS; m++) ediss[j][m] = ediss[i][m];
+  for (int m = 0; m < NELASTIC; m++) eel[j][m] = eel[i][m];
   if (peratom_flag)
     for (int m = 0; m < size_peratom_cols; m++) array_atom[j][m] = array_atom[i][m];
 }
@@ -607,6 +650,8 @@ void FixWallViscontact::copy_arrays(int i, int j, int /*delflag*/)
 void FixWallViscontact::set_arrays(int i)
 {
   for (int m = 0; m < nvalues; m++) store[i][m] = 0.0;
+  for (int m = 0; m < NDISS; m++) ediss[i][m] = 0.0;
+  for (int m = 0; m < NELASTIC; m++) eel[i][m] = 0.0;
   if (peratom_flag)
     for (int m = 0; m < size_peratom_cols; m++) array_atom[i][m] = 0.0;
 }
@@ -615,6 +660,7 @@ int FixWallViscontact::pack_exchange(int i, double *buf)
 {
   int n = 0;
   for (int m = 0; m < nvalues; m++) buf[n++] = store[i][m];
+  for (int m = 0; m < NDISS; m++) buf[n++] = ediss[i][m];
   if (peratom_flag)
     for (int m = 0; m < size_peratom_cols; m++) buf[n++] = array_atom[i][m];
   return n;
@@ -624,6 +670,8 @@ int FixWallViscontact::unpack_exchange(int nlocal, double *buf)
 {
   int n = 0;
   for (int m = 0; m < nvalues; m++) store[nlocal][m] = buf[n++];
+  for (int m = 0; m < NDISS; m++) ediss[nlocal][m] = buf[n++];
+  for (int m = 0; m < NELASTIC; m++) eel[nlocal][m] = 0.0;
   if (peratom_flag)
     for (int m = 0; m < size_peratom_cols; m++) array_atom[nlocal][m] = buf[n++];
   return n;
@@ -632,9 +680,11 @@ int FixWallViscontact::unpack_exchange(int nlocal, double *buf)
 int FixWallViscontact::pack_restart(int i, double *buf)
 {
   // first value: how many values this fix wrote for the atom, itself included
-  buf[0] = nvalues + 1;
-  for (int m = 0; m < nvalues; m++) buf[m + 1] = store[i][m];
-  return nvalues + 1;
+  int n = 1;
+  for (int m = 0; m < nvalues; m++) buf[n++] = store[i][m];
+  for (int m = 0; m < NDISS; m++) buf[n++] = ediss[i][m];
+  buf[0] = n;
+  return n;
 }
 
 void FixWallViscontact::unpack_restart(int nlocal, int nth)
@@ -642,27 +692,28 @@ void FixWallViscontact::unpack_restart(int nlocal, int nth)
   double **extra = atom->extra;
   int m = 0;    // skip the values of the fixes before this one
   for (int k = 0; k < nth; k++) m += static_cast<int>(extra[nlocal][m]);
-  if (static_cast<int>(extra[nlocal][m]) != nvalues + 1)
+  if (static_cast<int>(extra[nlocal][m]) != size_restart(nlocal))
     error->one(FLERR, std::string(PREFIX) +
                           "restart file holds a different wall history size (was the wall style, "
                           "region or contact model changed between write_restart and "
                           "read_restart?)");
   m++;
   for (int k = 0; k < nvalues; k++) store[nlocal][k] = extra[nlocal][m++];
+  for (int k = 0; k < NDISS; k++) ediss[nlocal][k] = extra[nlocal][m++];
 }
 
 int FixWallViscontact::size_restart(int /*nlocal*/)
 {
-  return nvalues + 1;
+  return 1 + nvalues + NDISS;
 }
 
 int FixWallViscontact::maxsize_restart()
 {
-  return nvalues + 1;
+  return 1 + nvalues + NDISS;
 }
 
 double FixWallViscontact::memory_usage()
 {
-  return static_cast<double>(atom->nmax) * (nvalues + (peratom_flag ? size_peratom_cols : 0)) *
-      sizeof(double);
+  return static_cast<double>(atom->nmax) *
+      (nvalues + NDISS + NELASTIC + (peratom_flag ? size_peratom_cols : 0)) * sizeof(double);
 }

@@ -48,8 +48,8 @@
 #define VISCONTACT_FIX_WALL_VISCONTACT_H
 
 #include "fix.h"
-#include "viscontact_contact.h"
 #include "viscontact_lammps.h"
+#include "viscontact_model.h"
 
 #include <cstdint>
 #include <string>
@@ -57,7 +57,7 @@
 
 namespace LAMMPS_NS {
 
-class FixWallViscontact : public Fix {
+class FixWallViscontact : public Fix, public viscontact::EnergySource {
  public:
   FixWallViscontact(class LAMMPS *, int, char **);
   ~FixWallViscontact() override;
@@ -82,6 +82,12 @@ class FixWallViscontact : public Fix {
   void restart(char *) override;
   double memory_usage() override;
 
+  // viscontact::EnergySource: per local atom, the cumulative energy its wall contacts
+  // dissipated (by mechanism) and their elastic energy now, all counted on the atom
+  void energy_request() override { energy_on = true; }
+  const double *energy_dissipated_atom() const override { return ediss ? ediss[0] : nullptr; }
+  const double *energy_elastic_atom() const override { return eel ? eel[0] : nullptr; }
+
  private:
   enum Style { XPLANE = 0, YPLANE = 1, ZPLANE = 2, ZCYLINDER = 3, REGION = 4 };
   int wallstyle;
@@ -98,8 +104,9 @@ class FixWallViscontact : public Fix {
   double amplitude, wfreq, vshear;
   bigint time_origin;      // the step the fix was defined (wiggle phase 0)
 
-  viscontact::LawParams law;            // as parsed (Estar, Gstar filled per type in init)
-  std::vector<viscontact::LawParams> type_law;    // [ntypes+1]: law with the type's E*, G*
+  viscontact::ContactModel model;       // as parsed (E*, G* filled per type in init)
+  std::vector<viscontact::ContactModel> type_model;    // [ntypes+1]: with the type's E*, G*
+  std::vector<char> type_ok;            // [ntypes+1]: the type has a material
   bool wall_rigid;
   double wall_E, wall_nu;
   bool has_twall;          // `temperature` given (required by heat)
@@ -121,12 +128,18 @@ class FixWallViscontact : public Fix {
   const viscontact::ContactCoeffs &coeffs(int type, double m, double reff);
 
   // per-atom storage: [0] number of stored contacts, then tmax slots of
-  // [wall index, touch flag, the contact step's history]
-  static constexpr int HIST = 1 + viscontact::HISTORY_SIZE;    // touch flag + model history
-  static constexpr int SLOT = 1 + HIST;
+  // [wall index, the contact model's history (hsize values)]
+  int hsize, slotsize;
   int nvalues;
   double **store;
-  double *slot(int i, int k) { return &store[i][1 + k * SLOT]; }
+  double *slot(int i, int k) { return &store[i][1 + k * slotsize]; }
+  std::vector<double> kept;    // one atom's contacts of this step, as they will be stored
+
+  // energy (compute viscontact/energy): cumulative dissipation (migrates, restart) and the
+  // elastic energy of the last force computation, NDISS and NELASTIC per atom
+  bool energy_on;
+  double **ediss, **eel;
+  bool heat_on;
 
   viscontact::EffectiveMass masses;    // m* = the sphere's (or its rigid body's) mass
 
@@ -143,13 +156,15 @@ class FixWallViscontact : public Fix {
   };
   std::vector<Touch> touches;
   void find_touches(int i, double wlo, double whi, const double vplane[3]);
-  void match_history(int i);    // keyed region history: keep found faces, drop the others
-  std::vector<int> t2s;         // touches[k] -> slot index of its history
 
   [[noreturn]] void fail(const std::string &msg);
   double parse_coordinate(const std::string &key, const char *text, bool &present);
   int parse_dim(const std::string &key, const std::string &text);
   void contact(int i, double *hist, const Touch &c, bool update_history, double t_now);
+  double effective_radius(double r, double rwall) const
+  {
+    return rwall == 0.0 ? r : r * rwall / (r + rwall);
+  }
 };
 
 }    // namespace LAMMPS_NS
