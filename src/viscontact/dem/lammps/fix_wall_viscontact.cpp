@@ -546,6 +546,7 @@ void FixWallViscontact::post_force(int /*vflag*/)
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     if (region && !region->match(atom->x[i][0], atom->x[i][1], atom->x[i][2])) {
+      if (energy_on && update_history) release_ended(i, nullptr, 0);
       store[i][0] = 0.0;    // outside: no contact, and no stale history to come back with it
       continue;
     }
@@ -578,8 +579,29 @@ void FixWallViscontact::post_force(int /*vflag*/)
       contact(i, hist, c, update_history, t_now);
       nkept++;
     }
+    if (energy_on && update_history) release_ended(i, kept.data(), nkept);
     store[i][0] = nkept;
     for (int k = 0; k < nkept * slotsize; k++) store[i][1 + k] = kept[k];
+  }
+}
+
+/* ----------------------------------------------------------------------
+   atom i's stored contacts that are not among the nkept ones in kept (keyed by wall index):
+   they ended (apart, beyond pull-off, no longer found), and the elastic energy they still held
+   is lost, counted as dissipated on the atom as pair viscontact counts it
+------------------------------------------------------------------------- */
+
+void FixWallViscontact::release_ended(int i, const double *keep, int nkept)
+{
+  const viscontact::ContactModel &m = type_model[atom->type[i]];
+  const int touch = m.history_slots().touch;
+  const int nold = static_cast<int>(store[i][0]);
+  for (int k = 0; k < nold; k++) {
+    const double *s = slot(i, k);
+    if (s[1 + touch] == 0.0) continue;
+    bool kept_on = false;
+    for (int q = 0; q < nkept && !kept_on; q++) kept_on = keep[static_cast<size_t>(q) * slotsize] == s[0];
+    if (!kept_on) m.release(s + 1, ediss[i]);
   }
 }
 

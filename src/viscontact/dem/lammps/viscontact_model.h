@@ -125,6 +125,9 @@ struct ContactResult {
   double power;               ///< total dissipated power of the step (sum dissipated / dt)
 };
 
+/// Dashpot forces kept per contact for the energy count (HistorySlots::damp).
+constexpr int NDAMP = 12;
+
 /// History slot offsets of a model (-1: absent).  The total is history_size().
 struct HistorySlots {
   int touch = 0;       ///< 1 while the contact exists (jkr: until pull-off)
@@ -135,7 +138,14 @@ struct HistorySlots {
   int a_prev = -1;     ///< contact radius of the last step (mindlin family, marshall)
   int roll = -1;       ///< rolling displacement (3)
   int twist = -1;      ///< twisting angle (1)
-  int size = 3 + NELASTIC;
+  /// the dashpot forces of the last step (normal F_d, tangential 3, rolling 3, twisting
+  /// torque): each dashpot's work over a step is the trapezoid (F_last + F_now)/2 . v dt, the
+  /// work velocity Verlet does (the force of step n acts on the displacements before and after);
+  /// then the second half of the last force's work, (F_last/2) . v dt with this step's v, per
+  /// mechanism (normal, tangential, rolling, twisting), counted by release() when the contact
+  /// ends (its next step's displacement is v dt to first order: O(dt^2) per contact)
+  int damp = 3 + NELASTIC;
+  int size = 3 + NELASTIC + NDAMP;
 };
 
 /* ---- normal-model helpers ----------------------------------------------------------------- */
@@ -194,7 +204,7 @@ class ContactModel {
   void setup(bool force_xi = false, bool force_aprev = false, bool force_roll = false,
              bool force_twist = false)
   {
-    int n = 3 + NELASTIC;
+    int n = 3 + NELASTIC + NDAMP;
     slots = HistorySlots();
     if (has_tangential_history() || force_xi) { slots.xi = n; n += 3; }
     if (needs_aprev() || force_aprev) slots.a_prev = n++;
@@ -213,6 +223,7 @@ class ContactModel {
     if (slots.xi >= 0) for (int k = 0; k < 3; k++) sign[slots.xi + k] = -1.0;
     if (slots.roll >= 0) for (int k = 0; k < 3; k++) sign[slots.roll + k] = -1.0;
     if (slots.twist >= 0) sign[slots.twist] = -1.0;
+    for (int k = 1; k < 8; k++) sign[slots.damp + k] = -1.0;    // F_d along n and the energies: +1
   }
 
   /// The last step's contact radius is kept: rescale models (native), and for the energy of
@@ -269,7 +280,12 @@ class ContactModel {
     diss[DISS_SLIDING] += e[ELASTIC_TANGENTIAL];
     diss[DISS_ROLLING] += e[ELASTIC_ROLLING];
     diss[DISS_TWISTING] += e[ELASTIC_TWISTING];
-    return e[0] + e[1] + e[2] + e[3];
+    const double *p = &h[slots.damp + 8];    // the dashpots' pending half-step of work
+    diss[DISS_NORMAL_DAMPING] += p[0];
+    diss[DISS_TANGENTIAL_DAMPING] += p[1];
+    diss[DISS_ROLLING] += p[2];
+    diss[DISS_TWISTING] += p[3];
+    return e[0] + e[1] + e[2] + e[3] + p[0] + p[1] + p[2] + p[3];
   }
 
   /// THE contact step.  history: history_size() values of this contact (touch slot 0: a new
@@ -390,14 +406,15 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
   const double eta_t = tangential.xgamma * eta_n;
   const double fscrit = tangential.mu * F0;
   double dsl = 0.0, dtd = 0.0, el_t = 0.0;
+  double fdamp_t[3] = {0.0, 0.0, 0.0};    // the tangential dashpot force this step
   if (tangential.kind == TangentialKind::LinearNoHistory) {
     const double vrel = std::sqrt(dot3(vtr, vtr));
     if (vrel != 0.0) {
       const double fmag = eta_t * vrel;
       const double s = (fmag < fscrit ? fmag : fscrit) / vrel;
       for (int k = 0; k < 3; k++) ft[k] = -s * vtr[k];
-      dtd = s * vrel * vrel * dt;
     }
+    for (int k = 0; k < 3; k++) fdamp_t[k] = ft[k];
   } else if (tangential.kind != TangentialKind::None) {
     double *xi = &h[slots.xi];
     const bool force_form = force_history();
@@ -430,6 +447,7 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
       fdmp[k] = -eta_t * vtr[k];
       ft[k] = (force_form ? xi[k] : -kt * xi[k]) + fdmp[k];
     }
+    for (int k = 0; k < 3; k++) fdamp_t[k] = fdmp[k];
     const double x_pre[3] = {xi[0], xi[1], xi[2]};
     const double magfs = std::sqrt(dot3(ft, ft));
     if (magfs > fscrit) {
@@ -440,20 +458,17 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
           xi[k] = force_form ? ft[k] - fdmp[k] : -(ft[k] - fdmp[k]) / kt;
         }
         // the capped force is the rescaled spring plus the whole dashpot (native's rewrite of
-        // xi), so the dashpot still dissipates eta |v|^2 dt.  Sliding friction: the slip
+        // xi), so the whole dashpot still works (counted with the dashpots below).  Sliding: the slip
         // (the displacement the cap removes) times the spring force averaged over the step (the
         // trapezoid of velocity Verlet, under which a linear spring conserves energy exactly)
-        dtd = eta_t * dot3(vtr, vtr) * dt;
         dsl += force_form ? (kt > 0.0 ? trapezoid_slip(x_old, x_pre, xi) / kt : 0.0)
                           : kt * trapezoid_slip(x_old, x_pre, xi);
       } else {
         ft[0] = ft[1] = ft[2] = 0.0;
+        fdamp_t[0] = fdamp_t[1] = fdamp_t[2] = 0.0;
       }
-    } else {
-      dtd = eta_t * dot3(vtr, vtr) * dt;
     }
     el_t = energy(xi, kt);
-    if (!(dtd >= 0.0)) dtd = 0.0;
   }
 
   // (8) torques of the tangential force
@@ -498,13 +513,22 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
         for (int k = 0; k < 3; k++) xr[k] = -frcrit / (kr * magfr) * fr[k] - rolling.gamma / kr * vrl[k];
         const double s = frcrit / magfr;
         for (int k = 0; k < 3; k++) fr[k] *= s;
-        drl = rolling.gamma * dot3(vrl, vrl) * dt + kr * trapezoid_slip(xr_old, xr_pre, xr);
+        drl = kr * trapezoid_slip(xr_old, xr_pre, xr);
       } else {
         fr[0] = fr[1] = fr[2] = 0.0;
       }
-    } else {
-      drl = rolling.gamma * dot3(vrl, vrl) * dt;
     }
+    // the rolling dashpot (its force acts through the torque R* n x F on w_i - w_j, i.e. on
+    // v_R): the trapezoid of the last and this step's force
+    double *dpr = &h[slots.damp + 4];
+    double pend = 0.0;
+    for (int k = 0; k < 3; k++) {
+      const double fnow = -rolling.gamma * vrl[k];
+      drl -= 0.5 * (dpr[k] + fnow) * vrl[k] * dt;
+      pend -= 0.5 * fnow * vrl[k] * dt;
+      if (advance) dpr[k] = fnow;
+    }
+    if (advance) h[slots.damp + 10] = pend;
     el_r = 0.5 * kr * dot3(xr, xr);
     if (advance) for (int k = 0; k < 3; k++) h[slots.roll + k] = xr[k];
     double tr[3];
@@ -542,10 +566,14 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
     const double sgn = (wt > 0.0) - (wt < 0.0);
     if (std::fabs(tq) > tcrit) {
       xt = (tcrit * sgn - etw * wt) / ktw;
-      dtw += etw * wt * wt * dt + 0.5 * ktw * (xt_old + xt) * (xt_pre - xt);
+      dtw += 0.5 * ktw * (xt_old + xt) * (xt_pre - xt);
       tq = -tcrit * sgn;
-    } else {
-      dtw += etw * wt * wt * dt;
+    }
+    const double tnow = -etw * wt;    // the twisting dashpot: trapezoid as the others
+    dtw -= 0.5 * (h[slots.damp + 7] + tnow) * wt * dt;
+    if (advance) {
+      h[slots.damp + 7] = tnow;
+      h[slots.damp + 11] = -0.5 * tnow * wt * dt;
     }
     el_w = 0.5 * ktw * xt * xt;
     res.tau_twist = tq;
@@ -566,7 +594,19 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
   res.elastic[ELASTIC_TANGENTIAL] = el_t;
   res.elastic[ELASTIC_ROLLING] = el_r;
   res.elastic[ELASTIC_TWISTING] = el_w;
-  res.dissipated[DISS_NORMAL_DAMPING] = -(fn - fne) * vn * dt;
+  // the dashpots' work: the trapezoid of the last and this step's force on this step's
+  // displacement (velocity Verlet's own rule; the right-point rule F_now . v dt alone is off by
+  // (dt/2) int F_d . dv, first order in dt)
+  double *dp = &h[slots.damp];
+  res.dissipated[DISS_NORMAL_DAMPING] = -0.5 * (dp[0] + (fn - fne)) * vn * dt;
+  dtd = 0.0;
+  for (int k = 0; k < 3; k++) dtd -= 0.5 * (dp[1 + k] + fdamp_t[k]) * vtr[k] * dt;
+  if (advance) {
+    dp[0] = fn - fne;
+    for (int k = 0; k < 3; k++) dp[1 + k] = fdamp_t[k];
+    dp[8] = -0.5 * (fn - fne) * vn * dt;
+    dp[9] = -0.5 * dot3(fdamp_t, vtr) * dt;
+  }
   res.dissipated[DISS_TANGENTIAL_DAMPING] = dtd;
   res.dissipated[DISS_SLIDING] = dsl;
   res.dissipated[DISS_ROLLING] = drl;
