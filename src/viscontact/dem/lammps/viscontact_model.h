@@ -126,7 +126,7 @@ struct ContactResult {
 };
 
 /// Dashpot forces kept per contact for the energy count (HistorySlots::damp).
-constexpr int NDAMP = 12;
+constexpr int NDAMP = 14;
 
 /// History slot offsets of a model (-1: absent).  The total is history_size().
 struct HistorySlots {
@@ -141,9 +141,10 @@ struct HistorySlots {
   /// the dashpot forces of the last step (normal F_d, tangential 3, rolling 3, twisting
   /// torque): each dashpot's work over a step is the trapezoid (F_last + F_now)/2 . v dt, the
   /// work velocity Verlet does (the force of step n acts on the displacements before and after);
-  /// then the second half of the last force's work, (F_last/2) . v dt with this step's v, per
-  /// mechanism (normal, tangential, rolling, twisting), counted by release() when the contact
-  /// ends (its next step's displacement is v dt to first order: O(dt^2) per contact)
+  /// then the second half of the last forces' work, -(F_last/2) . v dt with this step's v
+  /// (normal damping, tangential damping, rolling, twisting, the elastic normal force, the
+  /// tangential spring), counted by release() when the contact ends (its next displacement is
+  /// v dt to first order: O(dt^2) per contact)
   int damp = 3 + NELASTIC;
   int size = 3 + NELASTIC + NDAMP;
 };
@@ -285,7 +286,9 @@ class ContactModel {
     diss[DISS_TANGENTIAL_DAMPING] += p[1];
     diss[DISS_ROLLING] += p[2];
     diss[DISS_TWISTING] += p[3];
-    return e[0] + e[1] + e[2] + e[3] + p[0] + p[1] + p[2] + p[3];
+    diss[DISS_ADHESION] += p[4];
+    diss[DISS_SLIDING] += p[5];
+    return e[0] + e[1] + e[2] + e[3] + p[0] + p[1] + p[2] + p[3] + p[4] + p[5];
   }
 
   /// THE contact step.  history: history_size() values of this contact (touch slot 0: a new
@@ -521,14 +524,12 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
     // the rolling dashpot (its force acts through the torque R* n x F on w_i - w_j, i.e. on
     // v_R): the trapezoid of the last and this step's force
     double *dpr = &h[slots.damp + 4];
-    double pend = 0.0;
     for (int k = 0; k < 3; k++) {
       const double fnow = -rolling.gamma * vrl[k];
       drl -= 0.5 * (dpr[k] + fnow) * vrl[k] * dt;
-      pend -= 0.5 * fnow * vrl[k] * dt;
       if (advance) dpr[k] = fnow;
     }
-    if (advance) h[slots.damp + 10] = pend;
+    if (advance) h[slots.damp + 10] = -0.5 * dot3(fr, vrl) * dt;
     el_r = 0.5 * kr * dot3(xr, xr);
     if (advance) for (int k = 0; k < 3; k++) h[slots.roll + k] = xr[k];
     double tr[3];
@@ -573,7 +574,7 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
     dtw -= 0.5 * (h[slots.damp + 7] + tnow) * wt * dt;
     if (advance) {
       h[slots.damp + 7] = tnow;
-      h[slots.damp + 11] = -0.5 * tnow * wt * dt;
+      h[slots.damp + 11] = -0.5 * tq * wt * dt;
     }
     el_w = 0.5 * ktw * xt * xt;
     res.tau_twist = tq;
@@ -606,13 +607,17 @@ inline void ContactModel::evaluate(const ContactGeometry &g, double *h, bool adv
     for (int k = 0; k < 3; k++) dp[1 + k] = fdamp_t[k];
     dp[8] = -0.5 * (fn - fne) * vn * dt;
     dp[9] = -0.5 * dot3(fdamp_t, vtr) * dt;
+    dp[12] = -0.5 * fne * vn * dt;
+    dp[13] = -0.5 * (dot3(ft, vtr) - dot3(fdamp_t, vtr)) * dt;
   }
   res.dissipated[DISS_TANGENTIAL_DAMPING] = dtd;
   res.dissipated[DISS_SLIDING] = dsl;
   res.dissipated[DISS_ROLLING] = drl;
   res.dissipated[DISS_TWISTING] = dtw;
   // JKR snap-in: the elastic energy jumps from 0 (apart) to U < 0
-  if (fresh && normal.kind == NormalKind::JKR) res.dissipated[DISS_ADHESION] = -U;
+  // and the attraction's work over the step before, (F_ne/2) times that step's approach (the
+  // trapezoid of velocity Verlet with no force at the step before)
+  if (fresh && normal.kind == NormalKind::JKR) res.dissipated[DISS_ADHESION] = -U - 0.5 * fne * vn * dt;
   double sum = 0.0;
   for (int k = 0; k < NDISS; k++) sum += res.dissipated[k];
   res.power = dt > 0.0 ? sum / dt : 0.0;
