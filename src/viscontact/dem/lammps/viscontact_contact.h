@@ -33,53 +33,80 @@
 
 namespace viscontact {
 
-/// The damping laws (SPEC section 3); p is the overlap exponent of the damping term.
+/// The damping laws (in the order of LAW_TABLE); p is the overlap exponent of the damping term.
 enum class Law { LH, Ts, KK, Li, Hunt, Jian, Power };
+
+/// One row of the law table: what viscontact.laws says of each law (name as users write it,
+/// damping exponent p (-1: the user gives p), whether it takes a relaxation time beta/tau, and
+/// the per-contact memory a DEM engine must keep).  The ONLY place a law is named in C++;
+/// tests/test_dem_contact_laws.py checks it against the Python registry.
+struct LawInfo {
+  Law law;
+  const char *name;
+  double p;
+  bool needs_beta;
+  const char *history;    ///< comma-separated names, "" for none
+};
+
+constexpr LawInfo LAW_TABLE[] = {
+    {Law::LH, "LH", 0.0, false, ""},        // Lee & Herrmann, J. Phys. A 26 (1993) 373
+    {Law::Ts, "Ts", 0.25, false, ""},       // Tsuji et al., Powder Technol. 71 (1992) 239
+    {Law::KK, "KK", 0.5, false, ""},        // Kuwabara & Kono, Jpn. J. Appl. Phys. 26 (1987) 1230
+    {Law::Li, "Li", 1.0, false, ""},        // Lichtensteiger
+    {Law::Hunt, "Hunt", 1.5, false, ""},    // Hunt & Crossley, J. Appl. Mech. 42 (1975) 440
+    {Law::Jian, "Jian", 0.5, true, "contact_start_time"},    // Jian et al., Powder Technol. 356 (2019) 735
+    {Law::Power, "power", -1.0, false, ""},
+};
+constexpr int NLAWS = sizeof(LAW_TABLE) / sizeof(LAW_TABLE[0]);
 
 /// Law name as users write it (case-insensitive on input).
 inline const char *law_name(Law law)
 {
-  switch (law) {
-    case Law::LH: return "LH";
-    case Law::Ts: return "Ts";
-    case Law::KK: return "KK";
-    case Law::Li: return "Li";
-    case Law::Hunt: return "Hunt";
-    case Law::Jian: return "Jian";
-    case Law::Power: return "power";
-  }
+  for (const LawInfo &r : LAW_TABLE)
+    if (r.law == law) return r.name;
   return "?";
+}
+
+/// "LH Ts KK Li Hunt Jian power": the names for error messages.
+inline std::string law_names()
+{
+  std::string out;
+  for (const LawInfo &r : LAW_TABLE) out += (out.empty() ? "" : " ") + std::string(r.name);
+  return out;
+}
+
+/// The laws with a relaxation time (beta / tau), for error messages.
+inline std::string beta_law_names()
+{
+  std::string out;
+  for (const LawInfo &r : LAW_TABLE)
+    if (r.needs_beta) out += (out.empty() ? "" : " ") + std::string(r.name);
+  return out;
 }
 
 /// Parse a law name (case-insensitive).  Returns false for an unknown name.
 inline bool parse_law(const std::string &name, Law &law)
 {
-  std::string s;
-  for (char c : name) s += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (s == "lh") law = Law::LH;
-  else if (s == "ts") law = Law::Ts;
-  else if (s == "kk") law = Law::KK;
-  else if (s == "li") law = Law::Li;
-  else if (s == "hunt") law = Law::Hunt;
-  else if (s == "jian") law = Law::Jian;
-  else if (s == "power") law = Law::Power;
-  else return false;
-  return true;
+  auto lower = [](std::string x) {
+    for (char &c : x) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return x;
+  };
+  const std::string s = lower(name);
+  for (const LawInfo &r : LAW_TABLE) {
+    if (lower(r.name) == s) {
+      law = r.law;
+      return true;
+    }
+  }
+  return false;
 }
 
 /// Damping exponent p of a fixed law (LH 0, Ts 1/4, KK 1/2, Li 1, Hunt 3/2, Jian 1/2);
 /// -1 for `power`, whose p the user gives.
 inline double law_exponent(Law law)
 {
-  switch (law) {
-    case Law::LH: return 0.0;
-    case Law::Ts: return 0.25;
-    case Law::KK: return 0.5;
-    case Law::Li: return 1.0;
-    case Law::Hunt: return 1.5;
-    case Law::Jian: return 0.5;
-    case Law::Power: return -1.0;
-  }
+  for (const LawInfo &r : LAW_TABLE)
+    if (r.law == law) return r.p;
   return -1.0;
 }
 

@@ -42,4 +42,12 @@ void vc_mindlin(double *xi, const double *n, const double *vtr, double dt, doubl
 {
   viscontact::mindlin_tangential(xi, n, vtr, dt, kt, fn_limit, ft);
 }
+
+/// The C++ law table, row i (0 <= i < vc_law_count()): name, exponent p (-1: given), whether
+/// it needs beta, the history it keeps (comma-separated).
+int vc_law_count() { return viscontact::NLAWS; }
+const char *vc_law_name(int i) { return viscontact::LAW_TABLE[i].name; }
+double vc_law_exponent(int i) { return viscontact::LAW_TABLE[i].p; }
+int vc_law_needs_beta(int i) { return viscontact::LAW_TABLE[i].needs_beta ? 1 : 0; }
+const char *vc_law_history(int i) { return viscontact::LAW_TABLE[i].history; }
 }

@@ -114,7 +114,7 @@ inline std::string parse_normal(const std::vector<std::string> &args, size_t &i,
   const std::string model = i < args.size() ? args[i] : "";
   const bool cohesive = model == "dmt" || model == "jkr";
   if (model != "hertz/material" && !cohesive)
-    return "expected the normal model hertz/material E NU, dmt E NU W or jkr E NU W, got " +
+    return "expected 'hertz/material E NU', 'dmt E NU W' or 'jkr E NU W' after the two types, got " +
         quoted(model);
   const size_t nval = cohesive ? 3 : 2;
   if (i + nval >= args.size())
@@ -186,10 +186,10 @@ class LawKeywords {
       if (seen_damping) return fail(err, "damping given twice");
       seen_damping = true;
       if (i + 1 >= args.size())
-        return fail(err, "damping needs a law: one of LH Ts KK Li Hunt Jian power");
+        return fail(err, "damping needs a law: one of " + law_names());
       if (!parse_law(args[i + 1], lp.law))
         return fail(err, "unknown damping law " + quoted(args[i + 1]) +
-                             "; allowed: LH Ts KK Li Hunt Jian power");
+                             "; allowed: " + law_names());
       lp.p = law_exponent(lp.law);
       i += 2;
       // the law's parameters, in any order, up to the next keyword that is not one of them
@@ -335,9 +335,10 @@ class LawKeywords {
   /// Check that the keywords form one complete law; "" when they do.
   std::string finish(NormalKind normal_kind = NormalKind::Hertz)
   {
-    if (!seen_damping) return "missing damping LAW ... (LAW one of LH Ts KK Li Hunt Jian power)";
+    if (!seen_damping) return "missing damping LAW ... (LAW one of " + law_names() + ")";
     if (!seen_tangential)
-      return "missing tangential none | linear_nohistory | linear_history | mindlin ... (one is required)";
+      return "missing tangential none | mindlin MU | linear_nohistory XGAMMA MU | linear_history KT "
+             "XGAMMA MU | mindlin[_rescale][/force] KT|NULL XGAMMA MU (one is required)";
     if (normal_kind != NormalKind::Hertz) {
       if (seen_end && lp.clamp)
         return std::string("end force is not allowed with the cohesive normal model ") +
@@ -347,12 +348,13 @@ class LawKeywords {
     if (twisting.kind == TwistingKind::Marshall && (tangential.kind == TangentialKind::None ||
                                                     tangential.kind == TangentialKind::LinearNoHistory))
       return "twisting marshall needs a tangential spring: linear_history or a mindlin model";
-    const bool jian = lp.law == Law::Jian;
-    if (lp.law == Law::Power) {
-      if (!has_p) return "damping power needs p P (P in [0, 10])";
+    const bool jian = LAW_TABLE[static_cast<int>(lp.law)].needs_beta;
+    if (law_exponent(lp.law) < 0.0) {
+      if (!has_p) return std::string("damping ") + law_name(lp.law) + " needs p P (P in [0, 10])";
       lp.p = p_in;
     } else if (has_p) {
-      return std::string("p is only allowed with damping power, not ") + law_name(lp.law);
+      return "p is only allowed with damping " + std::string(law_name(Law::Power)) + ", not " +
+          law_name(lp.law);
     }
     const bool form_alpha = has_alpha || has_vref || has_beta;
     const bool form_c0 = has_c0 || has_tau;
@@ -365,14 +367,16 @@ class LawKeywords {
       if (!has_alpha) return "alpha A is missing (vref V needs it)";
       if (!has_vref) return "vref V (> 0, m/s) is missing (alpha A needs it)";
       if (has_beta && !jian)
-        return std::string("beta is only allowed with Jian, not ") + law_name(lp.law);
-      if (jian && !has_beta) return "damping Jian with alpha needs beta B (in [0, 1000])";
+        return "beta is only allowed with " + beta_law_names() + ", not " + law_name(lp.law);
+      if (jian && !has_beta)
+        return std::string("damping ") + law_name(lp.law) + " with alpha needs beta B (in [0, 1000])";
       lp.by_alpha = true;
     } else {
       if (!has_c0) return "c0 C is missing (tau S needs it)";
       if (has_tau && !jian)
-        return std::string("tau is only allowed with Jian, not ") + law_name(lp.law);
-      if (jian && !has_tau) return "damping Jian with c0 needs tau S (>= 0, s)";
+        return "tau is only allowed with " + beta_law_names() + ", not " + law_name(lp.law);
+      if (jian && !has_tau)
+        return std::string("damping ") + law_name(lp.law) + " with c0 needs tau S (>= 0, s)";
       lp.by_alpha = false;
     }
     if (!jian) lp.beta = lp.tau = 0.0;
