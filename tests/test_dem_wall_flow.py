@@ -5,7 +5,8 @@ shaken floor plate (``zplane ... wiggle``) cutting the drum.  Checks:
 - trajectories over 2000 steps equal native LAMMPS (``pair granular`` + ``fix
   wall/gran/region`` + ``fix wall/gran`` with ``damping velocity``, i.e. our LH ``c0``) to
   1e-8 of the largest value;
-- 2 ranks give what 1 rank gives, to 1e-8;
+- 2 ranks give what 1 rank gives, to 1e-8, the energies of compute viscontact/energy included
+  (per-atom dissipation migrating with the atoms);
 - write_restart after 500 steps, read_restart and 500 more steps equals 1000 steps in one run
   (per-atom wall histories, the region's motion and the wiggle phase restored), to 1e-8;
   negative control: the wall fixes defined under new IDs after read_restart lose their
@@ -48,29 +49,58 @@ variable g equal 0
 {walls}
 fix g all gravity 9.81 vector 0 0 -1
 fix 1 all nve/sphere
+{energy}
 neighbor 0.001 bin
 neigh_modify delay 0 every 1 check yes
 timestep {dt}
 thermo 0
 {body}
 write_dump all custom {out} id x y z vx vy vz omegax omegay omegaz modify sort id format float %.17g
+{print_energy}
 """
+#: ours: compute viscontact/energy, invoked by thermo on the last step, printed at the end
+ENERGY = ("compute e all viscontact/energy\n"
+          "thermo_style custom step c_e[1] c_e[2] c_e[3] c_e[4] c_e[5] c_e[6] c_e[8]")
+PRINT_ENERGY = ('print "ENERGY $(c_e[1]:%.17g) $(c_e[2]:%.17g) $(c_e[3]:%.17g) $(c_e[4]:%.17g) '
+                '$(c_e[5]:%.17g) $(c_e[6]:%.17g) $(c_e[8]:%.17g)"')
 REGION = "region drum cylinder y 0 0 0.05 INF INF side in rotate v_th 0 0 0 0 1 0"
 FLOOR = "zplane -0.035 NULL wiggle z 0.001 0.05"
 
 
-def _lines(impl: str, ids=("wd", "wf")) -> tuple[str, str]:
+#: (native model, our model) of the flow: the same contact model (LH c0 = damping velocity)
+MODELS = {
+    "mindlin": (f"hertz/material {E!r} {C0} {NU} damping velocity tangential mindlin NULL 0.0 "
+                f"{MU} limit_damping",
+                f"damping LH c0 {C0} end force tangential mindlin {MU}"),
+    "rolling-twisting": (
+        f"hertz/material {E!r} {C0} {NU} damping velocity tangential mindlin_rescale NULL 0.5 "
+        f"{MU} rolling sds 20 0.01 0.1 twisting marshall limit_damping",
+        f"damping LH c0 {C0} end force tangential mindlin_rescale NULL 0.5 {MU} "
+        "rolling sds 20 0.01 0.1 twisting marshall"),
+    "jkr": (
+        f"jkr {E!r} {C0} {NU} 0.2 damping velocity tangential linear_history 3000 0.5 {MU} "
+        "twisting sds 1e-4 1e-6 0.002",
+        f"normal jkr 0.2 damping LH c0 {C0} tangential linear_history 3000 0.5 {MU} "
+        "twisting sds 1e-4 1e-6 0.002"),
+}
+
+
+def _lines(impl: str, ids=("wd", "wf"), model: str = "mindlin") -> tuple[str, str]:
+    native, ours = MODELS[model]
     if impl == "native":
-        model = (f"hertz/material {E!r} {C0} {NU} damping velocity tangential mindlin NULL 0.0 "
-                 f"{MU} limit_damping")
-        pair = f"pair_style granular\npair_coeff * * {model}"
-        walls = (f"fix {ids[0]} all wall/gran/region granular {model} region drum\n"
-                 f"fix {ids[1]} all wall/gran granular {model} {FLOOR}")
+        pair = f"pair_style granular\npair_coeff * * {native}"
+        walls = (f"fix {ids[0]} all wall/gran/region granular {native} region drum\n"
+                 f"fix {ids[1]} all wall/gran granular {native} {FLOOR}")
     else:
-        model = f"damping LH c0 {C0} end force tangential mindlin {MU}"
-        pair = f"pair_style viscontact\npair_coeff * * hertz/material {E!r} {NU} {model}"
-        walls = (f"fix {ids[0]} all viscontact/wall region drum wall_material {E!r} {NU} {model}\n"
-                 f"fix {ids[1]} all viscontact/wall {FLOOR} wall_material {E!r} {NU} {model}")
+        # pair viscontact's NORMAL words: hertz/material E NU, or jkr E NU W
+        normal = f"hertz/material {E!r} {NU}"
+        words = ours
+        if ours.startswith("normal jkr "):
+            w, words = ours.split()[2], " ".join(ours.split()[3:])
+            normal = f"jkr {E!r} {NU} {w}"
+        pair = f"pair_style viscontact\npair_coeff * * {normal} {words}"
+        walls = (f"fix {ids[0]} all viscontact/wall region drum wall_material {E!r} {NU} {ours}\n"
+                 f"fix {ids[1]} all viscontact/wall {FLOOR} wall_material {E!r} {NU} {ours}")
     return pair, walls
 
 
@@ -89,26 +119,39 @@ def drum(tmp_path_factory):
     return d
 
 
-def _run(d, impl, out, body, *, np_=1, start="read_data drum.data", region=REGION, ids=None):
-    pair, walls = _lines(impl, ids or ("wd", "wf"))
+def _run(d, impl, out, body, *, np_=1, start="read_data drum.data", region=REGION, ids=None,
+         model="mindlin"):
+    pair, walls = _lines(impl, ids or ("wd", "wf"), model)
     script = _HEAD.format(plugin=plugin_line(), start=start, region=region, pair=pair,
-                          walls=walls, dt=DT, body=body, out=out)
+                          walls=walls, dt=DT, body=body, out=out,
+                          energy=ENERGY if impl == "ours" else "",
+                          print_energy=PRINT_ENERGY if impl == "ours" else "")
     proc = run_lmp(script, d, np=np_, name=f"in.{out}")
     assert_ok(proc)
-    return read_atoms(d / out)
+    atoms = read_atoms(d / out)
+    if impl == "ours":    # dissipated total, 5 mechanisms, elastic total
+        line = [ln for ln in proc.stdout.splitlines() if ln.startswith("ENERGY ")][-1]
+        atoms["energy"] = np.array([float(v) for v in line.split()[1:]])
+    return atoms
 
 
 def _rel(a, b) -> float:
+    """Largest difference of the atoms' columns (and of the energies) relative to the
+    largest value of each."""
+    cols = COLUMNS + (("energy",) if "energy" in a and "energy" in b else ())
     return max(float(np.abs(a[c] - b[c]).max() / max(np.abs(a[c]).max(), 1e-300))
-               for c in COLUMNS)
+               for c in cols)
 
 
-def test_drum_trajectories_as_native(drum):
-    ours = _run(drum, "ours", "ours.dump", "run 2000")
-    native = _run(drum, "native", "native.dump", "run 2000")
+@pytest.mark.parametrize("model", list(MODELS))
+def test_drum_trajectories_as_native(drum, model):
+    ours = _run(drum, "ours", f"ours-{model}.dump", "run 2000", model=model)
+    native = _run(drum, "native", f"native-{model}.dump", "run 2000", model=model)
     assert _rel(native, ours) < TOL
+    # the walls and pairs dissipated: damping, sliding
+    assert ours["energy"][0] > 0 and ours["energy"][1] > 0 and ours["energy"][3] > 0
     # the flow did something: the spheres moved by more than a radius on average
-    start = _run(drum, "ours", "start.dump", "run 0")
+    start = _run(drum, "ours", f"start-{model}.dump", "run 0", model=model)
     moved = np.hypot(ours["x"] - start["x"], ours["z"] - start["z"])
     assert moved.mean() > R
 
@@ -130,3 +173,6 @@ def test_drum_restart_continues(drum):
     lost = _run(drum, "ours", "lost.dump", "run 500", start="read_restart drum.restart",
                 ids=("wd2", "wf2"))
     assert _rel(ref, lost) > 1e-6
+    # the energies (per-atom cumulative dissipation restored from the restart file) too; the
+    # walls under new IDs start counting from zero
+    assert abs(lost["energy"][0] / ref["energy"][0] - 1) > 1e-3

@@ -283,3 +283,63 @@ def test_heat_as_native():
                       our_model=f"damping LH c0 {C0} tangential mindlin NULL 0.5 0.4 heat area 2.5",
                       extra=extra, out=("f", "torque", "heatflow"), steps=(0, 1, 20))
         assert np.all(np.abs(ref["heatflow"]) > 0), geom
+
+
+def test_rigid_wall_is_native_with_twice_the_modulus():
+    """``wall_material rigid`` against native with the particle's material at E' = 2 E (native
+    uses one material for both sides: E* = E'/(2(1-nu^2)) = E/(1-nu^2), and G* likewise)."""
+    for name in ("planes lo hi", "region corner"):
+        geom, regions, atoms = GEOMETRIES[name]
+        for s in (1, 50):
+            a = run(native_line(geom, f"hertz/material {2 * E!r} {C0} {NU} damping velocity "
+                                      f"tangential mindlin NULL 0.5 {MU} limit_damping"),
+                    regions, atoms, s)
+            b = run(f"fix w all viscontact/wall {geom} wall_material rigid damping LH c0 {C0} "
+                    f"tangential mindlin NULL 0.5 {MU} particle {E!r} {NU}", regions, atoms, s)
+            assert_same(a, b, f"{name} rigid after {s} steps")
+
+
+@pytest.mark.parametrize("geom,regions", [("zplane 0.0 NULL", []),
+                                          ("region p", ["region p plane 0 0 0 0 0 1"])])
+def test_jkr_pulled_off_as_native(geom, regions):
+    """A sphere pulled off the wall at constant speed (fix move) with jkr: the force at every
+    step equals native's.  A plane keeps the contact (tensile force) until the overlap reaches
+    -delta_c, delta_c = (3 pi^2/16)^(1/3) (R* W^2/E*^2)^(1/3) with R* = R; a region ends it at
+    zero overlap (native's region searches within R only)."""
+    w, v, dt = 0.05, 0.02, 1e-6
+    estar = E / (2 * (1 - NU**2))
+    delta_c = (3 * np.pi**2 / 16) ** (1 / 3) * (R * w**2 / estar**2) ** (1 / 3)
+    atoms = [((0.0, 0.0, R - 2e-6), 2 * R, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))]
+    steps = int(1.5 * (2e-6 + delta_c) / (v * dt))
+    lines = {"native": native_line(geom, f"jkr {E!r} {C0} {NU} {w} damping velocity "
+                                         f"tangential linear_history 2000 0.5 {MU}"),
+             "ours": our_line(geom, f"normal jkr {w} damping LH c0 {C0} tangential "
+                                    f"linear_history 2000 0.5 {MU}")}
+    fz, z = {}, None
+    for impl, line in lines.items():
+        lmp = _plugin.new_lammps(["-log", "none", "-screen", "none", "-nocite"])
+        try:
+            for c in ["units si", "atom_style sphere", "atom_modify map array", "boundary f f f",
+                      "region box block -0.1 0.1 -0.1 0.1 -0.1 0.1", "create_box 1 box",
+                      "create_atoms 1 single {!r} {!r} {!r}".format(*atoms[0][0]),
+                      f"set atom 1 diameter {2 * R!r} density {RHO!r}", "pair_style zero 0.05",
+                      "pair_coeff * *", *regions, line, f"fix m all move linear 0 0 {v}",
+                      f"timestep {dt}", "run 0"]:
+                lmp.command(c)
+            f, zz = [], []
+            for _ in range(steps):
+                lmp.command("run 1 pre no post no")
+                f.append(float(lmp.numpy.extract_atom("f")[0, 2]))
+                zz.append(float(lmp.numpy.extract_atom("x")[0, 2]))
+        finally:
+            lmp.close()
+        fz[impl], z = np.array(f), np.array(zz)
+    peak = np.abs(fz["native"]).max()
+    assert np.abs(fz["ours"] - fz["native"]).max() <= TOL * peak
+    delta = R - z
+    last = delta[np.nonzero(fz["ours"])[0][-1]]    # the last overlap with a force
+    assert fz["ours"].min() < 0    # tensile
+    if geom.startswith("region"):
+        assert 0 < last < v * dt * 1.01
+    else:
+        assert -delta_c < last < -delta_c + v * dt * 1.01

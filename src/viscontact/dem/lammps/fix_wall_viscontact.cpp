@@ -33,6 +33,7 @@ const char *const KEYWORDS =
     "wall_material normal damping end tangential rolling twisting heat temperature wiggle shear "
     "particle contacts";
 constexpr double BIG = 1.0e300;    // distance to an absent (NULL) plane
+const viscontact::Domain ANY_NUMBER{-1e300, 1e300, false};    // wiggle A, shear V
 
 }    // namespace
 
@@ -156,14 +157,23 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       if (!err.empty()) fail(err);
       has_particle = true;
       i += 3;
-    } else if (args[i] == "wiggle") {
-      if (motion == WIGGLE) fail("wiggle given twice");
-      if (motion == SHEAR) fail("wiggle and shear cannot be combined: choose one");
+    } else if (args[i] == "wiggle" || args[i] == "shear") {
+      const bool wiggle = args[i] == "wiggle";
+      if (motion == (wiggle ? WIGGLE : SHEAR)) fail(args[i] + " given twice");
+      if (motion != STILL) fail("wiggle and shear cannot be combined: choose one");
+      if (!wiggle) {
+        if (i + 2 >= args.size()) fail("shear needs DIM V (DIM x|y|z, V a velocity)");
+        axis = parse_dim("shear", args[i + 1]);
+        err = viscontact::parse_number("shear V", args[i + 2], ANY_NUMBER, vshear);
+        if (!err.empty()) fail(err);
+        motion = SHEAR;
+        i += 3;
+        continue;
+      }
       if (i + 3 >= args.size()) fail("wiggle needs DIM A PERIOD (DIM x|y|z, PERIOD > 0)");
       axis = parse_dim("wiggle", args[i + 1]);
       double period = 0.0;
-      err = viscontact::parse_number("wiggle A", args[i + 2],
-                                     viscontact::Domain{-1e300, 1e300, false}, amplitude);
+      err = viscontact::parse_number("wiggle A", args[i + 2], ANY_NUMBER, amplitude);
       if (err.empty())
         err = viscontact::parse_number("wiggle PERIOD", args[i + 3], viscontact::POSITIVE_DOMAIN,
                                        period);
@@ -171,16 +181,6 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       wfreq = 2.0 * M_PI / period;
       motion = WIGGLE;
       i += 4;
-    } else if (args[i] == "shear") {
-      if (motion == SHEAR) fail("shear given twice");
-      if (motion == WIGGLE) fail("wiggle and shear cannot be combined: choose one");
-      if (i + 2 >= args.size()) fail("shear needs DIM V (DIM x|y|z, V a velocity)");
-      axis = parse_dim("shear", args[i + 1]);
-      err = viscontact::parse_number("shear V", args[i + 2],
-                                     viscontact::Domain{-1e300, 1e300, false}, vshear);
-      if (!err.empty()) fail(err);
-      motion = SHEAR;
-      i += 3;
     } else if (args[i] == "temperature") {
       if (has_twall) fail("temperature given twice");
       if (i + 1 >= args.size())
@@ -546,8 +546,8 @@ void FixWallViscontact::post_force(int /*vflag*/)
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     if (region && !region->match(atom->x[i][0], atom->x[i][1], atom->x[i][2])) {
-      if (energy_on && update_history) release_ended(i, nullptr, 0);
-      store[i][0] = 0.0;    // outside: no contact, and no stale history to come back with it
+      // outside: no contact, and no stale history to come back with the atom
+      if (update_history) end_contacts(i, -1);
       continue;
     }
     if (!type_ok[atom->type[i]])    // a type without material (e.g. inserted since init)
@@ -555,54 +555,62 @@ void FixWallViscontact::post_force(int /*vflag*/)
                             std::to_string(atom->type[i]) +
                             ": give particle E NU, or pair_coeff I I of pair viscontact");
     find_touches(i, wlo, whi, vplane);
-
-    // each face's history by its wall index; faces no longer touching are forgotten, and a
-    // new face starts from zero
+    const viscontact::ContactModel &m = type_model[atom->type[i]];
     const int nold = static_cast<int>(store[i][0]);
     const double rad = atom->radius[i];
+
+    // each face's history by its wall index
     int nkept = 0;
     for (const Touch &c : touches) {
+      int k = 0;
+      while (k < nold && static_cast<int>(slot(i, k)[0]) != c.iwall) k++;
+      double *stored = k < nold ? slot(i, k) + 1 : nullptr;
+      if (!m.touching(c.r * c.r, rad, effective_radius(rad, c.rwall),
+                      stored && stored[touch] != 0.0))
+        continue;
+      if (!update_history) {
+        // a run's setup: a stored contact is evaluated in place (native: the Coulomb cap may
+        // rewrite it), a new one on a scratch copy; nothing is added or dropped
+        double *h = stored;
+        if (!h) {
+          h = &kept[0];
+          for (int q = 0; q < hsize; q++) h[q] = 0.0;
+        }
+        contact(i, h, c, false, t_now);
+        continue;
+      }
       double *h = &kept[static_cast<size_t>(nkept) * slotsize];
       h[0] = c.iwall;
-      double *hist = h + 1;
-      for (int k = 0; k < hsize; k++) hist[k] = 0.0;
-      for (int k = 0; k < nold; k++) {
-        const double *s = slot(i, k);
-        if (static_cast<int>(s[0]) == c.iwall) {
-          for (int q = 0; q < hsize; q++) hist[q] = s[1 + q];
-          break;
-        }
-      }
-      const double reff = effective_radius(rad, c.rwall);
-      if (!type_model[atom->type[i]].touching(c.r * c.r, rad, reff, hist[touch] != 0.0))
-        continue;
-      contact(i, hist, c, update_history, t_now);
+      for (int q = 0; q < hsize; q++) h[1 + q] = stored ? stored[q] : 0.0;
+      contact(i, h + 1, c, true, t_now);
       nkept++;
     }
-    if (energy_on && update_history) release_ended(i, kept.data(), nkept);
+    if (!update_history) continue;
+    // faces no longer touching: their contacts end (their elastic energy is released into
+    // the dissipated columns); a face found again later starts from zero
+    end_contacts(i, nkept);
     store[i][0] = nkept;
-    for (int k = 0; k < nkept * slotsize; k++) store[i][1 + k] = kept[k];
+    for (int q = 0; q < nkept * slotsize; q++) store[i][1 + q] = kept[q];
   }
 }
 
-/* ----------------------------------------------------------------------
-   atom i's stored contacts that are not among the nkept ones in kept (keyed by wall index):
-   they ended (apart, beyond pull-off, no longer found), and the elastic energy they still held
-   is lost, counted as dissipated on the atom as pair viscontact counts it
-------------------------------------------------------------------------- */
-
-void FixWallViscontact::release_ended(int i, const double *keep, int nkept)
+/* The stored contacts of atom i that are not among the first nkept of `kept` (all of them for
+   nkept < 0) end now: with the energy tally on, each releases its last elastic energy into the
+   dissipated columns (as pair viscontact does).  Clears the store for nkept < 0. */
+void FixWallViscontact::end_contacts(int i, int nkept)
 {
-  const viscontact::ContactModel &m = type_model[atom->type[i]];
-  const int touch = m.history_slots().touch;
   const int nold = static_cast<int>(store[i][0]);
-  for (int k = 0; k < nold; k++) {
-    const double *s = slot(i, k);
-    if (s[1 + touch] == 0.0) continue;
-    bool kept_on = false;
-    for (int q = 0; q < nkept && !kept_on; q++) kept_on = keep[static_cast<size_t>(q) * slotsize] == s[0];
-    if (!kept_on) m.release(s + 1, ediss[i]);
+  if (energy_on) {
+    const viscontact::ContactModel &m = type_model[atom->type[i]];
+    for (int k = 0; k < nold; k++) {
+      const double *s = slot(i, k);
+      bool found = false;
+      for (int q = 0; q < nkept && !found; q++)
+        found = static_cast<int>(kept[static_cast<size_t>(q) * slotsize]) == static_cast<int>(s[0]);
+      if (!found) m.release(s + 1, ediss[i]);
+    }
   }
+  if (nkept < 0) store[i][0] = 0.0;
 }
 
 double FixWallViscontact::compute_vector(int k)

@@ -7,6 +7,9 @@
             | zcylinder R                                  (axis z through the origin)
             | region REGION-ID                             (any LAMMPS region, may move/rotate)
 
+   Defaults: normal hertz; `end force` with hertz, `end overlap` with dmt/jkr; heat needs
+   temperature (and per-atom temperature/heatflow), temperature needs heat.
+
    Geometry (one "contact" = one wall face touching the sphere; each has its own history):
    - planes: only the nearer of LO and HI acts (as LAMMPS fix wall/gran); n points from the
      wall into the sphere, delta = r - distance, the wall is flat (R* = r).
@@ -28,16 +31,25 @@
      velocity over atoms, which we do not reproduce).  wiggle + shear, or either with region,
      is an error.
 
-   Contact model: the one viscontact contact step (viscontact_contact.h) with the wall as body
-   j: r_j = 0 (R* from the curvature above), m* = m_i (the body's mass in a rigid body),
-   w_j = 0, v_j = the wall velocity, lever arm r_i.  Materials: 1/E* = (1-nu_p^2)/E_p +
+   Contact model: the one viscontact contact step (viscontact::ContactModel::evaluate,
+   viscontact_model.h; the same keywords as pair viscontact, viscontact_keywords.h) with the
+   wall as body j: r_j = 0 (R* from the curvature above), m* = m_i (the body's mass in a rigid
+   body), w_j = 0, v_j = the wall velocity, lever arm r_i, T_j = the wall temperature.  A jkr
+   contact with a plane or the cylinder lives until pull-off (delta > -delta_c(R*)); with a
+   region it ends at zero overlap (LAMMPS fix wall/gran/region searches within r only).  Materials: 1/E* = (1-nu_p^2)/E_p +
    (1-nu_w^2)/E_w, 1/G* = (2-nu_p)/G_p + (2-nu_w)/G_w; `rigid` drops the wall terms; the
    particle's E, nu from `particle E NU`, else from pair viscontact's `pair_coeff I I`.
 
    History per atom: up to tmax contacts (1 for planes and zcylinder), each [wall index, the
    contact model's history].  It migrates with the atom and is written to restart files; a
    region's motion state and the wiggle origin go to the global restart record.  A run's setup
-   reads the history and never writes it.
+   evaluates stored contacts in place (the Coulomb cap may rewrite them, as native) and new
+   ones on a scratch copy; it neither adds nor ends contacts.
+
+   Energy (viscontact::EnergySource, read by compute viscontact/energy once it asks): per atom,
+   the cumulative energy its wall contacts dissipated, by mechanism (migrates, restart), and
+   their elastic energy now; a wall contact counts fully on its atom.  A contact that ends
+   releases its last elastic energy into the dissipated columns (ContactModel::release).
 
    Output: global vector (3), the total force of the wall on the group; with `contacts`, the
    per-atom array of LAMMPS fix wall/gran (8 columns: touching flag, force x y z of the last
@@ -161,7 +173,7 @@ class FixWallViscontact : public Fix, public viscontact::EnergySource {
   double parse_coordinate(const std::string &key, const char *text, bool &present);
   int parse_dim(const std::string &key, const std::string &text);
   void contact(int i, double *hist, const Touch &c, bool update_history, double t_now);
-  void release_ended(int i, const double *keep, int nkept);    // energy of contacts that ended
+  void end_contacts(int i, int nkept);
   double effective_radius(double r, double rwall) const
   {
     return rwall == 0.0 ? r : r * rwall / (r + rwall);
