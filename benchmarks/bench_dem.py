@@ -1,7 +1,7 @@
 """The LAMMPS plugin's cost per particle-step for every law against native ``pair_style granular``.
 
     python3 benchmarks/bench_dem.py [--quick] [--ranks 1 2] [--packings loose dense] [--steps N]
-                                    [--repeat R] [--laws LH Ts ...]
+                                    [--repeat R] [--laws LH Ts ...] [--full | --only-full]
 
 Two packings of about 10^4 equal spheres (d = 1 cm, rho = 2500 kg/m^3, E = 10 MPa, nu = 0.3,
 Mindlin friction mu = 0.5), fully periodic, no gravity, no walls (the pair style is what is
@@ -24,6 +24,12 @@ on a shared machine the shortest is the least disturbed; the cases interleaved) 
 warm-up; the figure is LAMMPS's loop time / (steps x particles) in microseconds, and the
 ``Pair`` share of it.  The ratio plugin/native is also given by CPU time (loop time x LAMMPS's
 "CPU use" x ranks), which other work on a shared machine disturbs less than wall time.
+
+With ``--full`` (or ``--only-full``) a case with every sub-model on is added: JKR cohesion
+(W = 0.5 J/m^2), tangential ``mindlin NULL 0.5 0.5`` (tangential damping), rolling ``sds``
+and twisting ``sds``, no clamp, for the laws native also has, in their exactly equivalent
+physical forms: our ``LH c0 C`` against native ``damping velocity C`` and our ``KK c0 C``
+against native ``viscoelastic`` with eta0 = C/(m* sqrt(R*)) (one sphere size, so one m*, R*).
 
 Targets: plugin / native <= 1 for every law; t(1 rank) / t(2 ranks) >= 1.7.
 """
@@ -93,6 +99,29 @@ def cases() -> list[tuple[str, str, str]]:
     return out
 
 
+#: the full case's sub-models: (ours after the damping, native after the damping)
+W_JKR, LH_C0, KK_ETA0 = 0.5, 0.3, 300.0
+_FULL_TAIL = (f"tangential mindlin NULL 0.5 {MU!r} rolling sds 200.0 0.05 0.1 "
+              "twisting sds 1e-05 1e-07 0.001")
+
+
+def full_cases() -> list[tuple[str, str, list[str]]]:
+    """(label, law, pair lines) of the case with every sub-model: plugin LH and KK in the
+    physical forms that equal native velocity and viscoelastic, and those natives."""
+    mass = RHO * math.pi * D**3 / 6.0
+    kk_c0 = KK_ETA0 * (mass / 2) * math.sqrt(D / 4)  # c0 = eta0 m* sqrt(R*)
+    out = []
+    for law, c0, option, coeff in (("LH", LH_C0, "velocity", LH_C0),
+                                   ("KK", kk_c0, "viscoelastic", KK_ETA0)):
+        out.append((f"plugin {law} full", law, [
+            "pair_style viscontact",
+            f"pair_coeff * * jkr {E!r} {NU!r} {W_JKR!r} damping {law} c0 {c0!r} end overlap {_FULL_TAIL}"]))
+        out.append((f"native {option} full", law, [
+            "pair_style granular",
+            f"pair_coeff * * jkr {E!r} {coeff!r} {NU!r} {W_JKR!r} damping {option} {_FULL_TAIL}"]))
+    return out
+
+
 def write_input(path: Path, kind: str, n_side: int, warm: int, steps: int, repeat: int,
                 todo: list[tuple[str, str, list[str]]]) -> None:
     """Every case ``repeat`` times, interleaved (A B C ... A B C ...), so that a burst of other
@@ -143,13 +172,19 @@ def main() -> int:
     ap.add_argument("--laws", nargs="+", default=list(LAWS), help="plugin laws (default all)")
     ap.add_argument("--steps", type=int, default=None, help="measured steps per run (default 300; quick 100)")
     ap.add_argument("--repeat", type=int, default=2, help="measured runs per case, best kept (default 2)")
+    ap.add_argument("--full", action="store_true",
+                    help="also the case with JKR, tangential damping, rolling and twisting (LH, KK)")
+    ap.add_argument("--only-full", action="store_true", help="only that case")
     args = ap.parse_args()
     from viscontact import dem
 
     steps = args.steps or (100 if args.quick else 300)
     warm = 150 if args.quick else 300
     plugin = dem.plugin_path(progress=lambda m: print(m, file=sys.stderr))
-    todo = [c for c in cases() if c[0].startswith("native") or c[1] in args.laws]
+    todo = [] if args.only_full else [c for c in cases()
+                                      if c[0].startswith("native") or c[1] in args.laws]
+    if args.full or args.only_full:
+        todo += full_cases()
     print(f"plugin {plugin}\nload average {os.getloadavg()[0]:.2f} before (timings on a shared "
           "machine scale with the cores actually free)")
     results: dict[tuple[str, int], dict[str, tuple[float, float, int]]] = {}
@@ -169,6 +204,10 @@ def main() -> int:
 
 def report(results, args) -> None:
     native_of = {law: NATIVE_OF.get(law, "viscoelastic") for law in LAWS}
+    if args.full or args.only_full:
+        report_full(results, args)
+    if args.only_full:
+        return
     for kind in args.packings:
         atoms = next(iter(results[(kind, args.ranks[0])].values()))[3]
         print(f"\n{kind}: {atoms} particles; wall us per particle-step (Pair share), plugin/native "
@@ -194,6 +233,20 @@ def report(results, args) -> None:
             print(row)
     print("\ntargets: plugin/native <= 1 for every law; speed-up 1 -> 2 ranks >= 1.7 "
           "(needs two free cores)")
+
+
+def report_full(results, args) -> None:
+    """The full case: plugin/native by wall and CPU time per law, packing and rank count."""
+    print("\nevery sub-model on (jkr, mindlin with tangential damping, rolling sds, twisting sds): "
+          "wall us per particle-step, plugin/native by wall and CPU time")
+    for kind in args.packings:
+        for law, option in (("LH", "velocity"), ("KK", "viscoelastic")):
+            row = f"{kind:<6} {law:<3} vs native {option:<13}"
+            for r in args.ranks:
+                pu, _, pc, _ = results[(kind, r)][f"plugin {law} full"]
+                nu, _, nc, _ = results[(kind, r)][f"native {option} full"]
+                row += f" | {r} rank: {pu:7.3f} {nu:7.3f} ratio {pu / nu:5.2f} (cpu {pc / nc:5.2f})"
+            print(row)
 
 
 if __name__ == "__main__":

@@ -44,23 +44,26 @@ KK_ETA0 = 300.0
 _TANGENTIAL = f"tangential mindlin NULL 0.0 {MU}"
 
 
-def _native(damping: str, coeff: float) -> tuple[str, str, str]:
-    """(pair_style, pair_coeff args, wall prefix) of native granular with this damping."""
+def _native(damping: str, coeff: float) -> tuple[str, str, str, str, str]:
+    """(pair_style, pair_coeff args, wall prefix, wall suffix, region-wall prefix) of native
+    granular with this damping."""
     model = f"{_TANGENTIAL} damping {damping} limit_damping"
+    wall = f"hertz/material {2 * E!r} {coeff!r} {NU} {model}"
     return ("granular", f"hertz/material {E!r} {coeff!r} {NU} {model}",
-            f"wall/gran granular hertz/material {2 * E!r} {coeff!r} {NU} {model}")
+            f"wall/gran granular {wall}", "", f"wall/gran/region granular {wall}")
 
 
-def _ours(pair_damp: str, wall_damp: str) -> tuple[str, str, str, str]:
+def _ours(pair_damp: str, wall_damp: str) -> tuple[str, str, str, str, str]:
     tail = f"end force tangential mindlin {MU}"
     return ("viscontact", f"hertz/material {E!r} {NU} damping {pair_damp} {tail}",
-            "viscontact/wall", f"wall_material rigid damping {wall_damp} {tail}")
+            "viscontact/wall", f"wall_material rigid damping {wall_damp} {tail}", "viscontact/wall")
 
 
 def _law_text(style: str, coeff: str, wall_pre: str, wall_post: str = "",
-              extra: str = "") -> str:
+              region_pre: str = "", extra: str = "") -> str:
     return (f"pair_style {style}\npair_coeff * * {coeff}\n{extra}"
-            f'variable wall_pre string "{wall_pre}"\nvariable wall_post string "{wall_post}"\n')
+            f'variable wall_pre string "{wall_pre}"\nvariable wall_post string "{wall_post}"\n'
+            f'variable region_pre string "{region_pre}"\n')
 
 
 def kk_c0(diameter: float, cylinder: float | None = None) -> tuple[float, float, float, float]:
@@ -90,11 +93,10 @@ def write_equivalent_laws(directory: Path, kk_diameter: float | None = None,
         pair, wall, frozen, cyl = kk_c0(kk_diameter, cylinder)
         native = _native("viscoelastic", KK_ETA0)
         laws["nat-KK"] = _law_text(*native)
-        style, coeff, pre, post = _ours(f"KK c0 {pair!r}", f"KK c0 {wall!r}")
         extra = ""
         if kk_frozen:
             extra = f"pair_coeff {kk_frozen} {_ours(f'KK c0 {frozen!r}', '')[1]}\n"
-        laws["vc-KK"] = _law_text(style, coeff, pre, post, extra)
+        laws["vc-KK"] = _law_text(*_ours(f"KK c0 {pair!r}", f"KK c0 {wall!r}"), extra=extra)
         if cylinder is not None:
             laws["nat-KK"] += 'variable bowl_post string ""\n'
             laws["vc-KK"] += f'variable bowl_post string "{_ours("", f"KK c0 {cyl!r}")[3]}"\n'
@@ -258,3 +260,33 @@ def force_differences(a: Run, b: Run) -> list[tuple[int, int, float]]:
                                      / scale))
         out.append((fa.step, contacts(fa), worst))
     return out
+
+
+# ------------------------------------------------------------------ plugin capabilities
+_PROBE = """{plugin}
+units si
+atom_style sphere
+boundary p p f
+comm_modify vel yes
+region box block 0 0.1 0 0.1 0 0.1
+create_box 1 box
+create_atoms 1 single 0.05 0.05 0.05
+set type 1 diameter 0.01
+set type 1 density 2500
+pair_style viscontact
+{lines}
+run 0
+"""
+_HAS: dict[str, str] = {}
+
+
+def plugin_lacks(lines: str, tmp: Path) -> str:
+    """'' if this plugin build accepts ``lines`` (after pair_style viscontact, then ``run 0``),
+    else LAMMPS's first error line: a feature another branch adds (the sub-models, compute
+    viscontact/energy) that the build under test may not have yet."""
+    if lines not in _HAS:
+        tmp.mkdir(parents=True, exist_ok=True)
+        proc = run_lmp(_PROBE.format(plugin=plugin_line(), lines=lines), tmp, name="in.probe")
+        errs = [ln for ln in (proc.stdout + proc.stderr).splitlines() if ln.startswith("ERROR")]
+        _HAS[lines] = errs[0] if errs or proc.returncode else ""
+    return _HAS[lines]

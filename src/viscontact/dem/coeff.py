@@ -3,10 +3,14 @@
 :func:`contact_law` takes a law and either a target restitution ``e`` at a reference speed
 ``vref`` (calibrated exactly: alpha = :func:`viscontact.alpha_from_e`), a non-dimensional
 ``alpha`` at ``vref``, or the physical damping prefactor ``c0`` (Jian: and ``tau``); the result
-is a frozen :class:`DemLaw`.  :func:`coeff_lines` adds the material (E, nu), the friction and
-an optional wall and gives the ``plugin load``, ``pair_style``, ``pair_coeff`` and wall-fix
-lines (syntax: ``pair_coeff I J hertz/material E NU damping LAW [p P] FORM [end force|overlap]
-tangential none|mindlin MU``, FORM = ``alpha A vref V [beta B]`` or ``c0 C [tau S]``).
+is a frozen :class:`DemLaw`.  :func:`coeff_lines` adds the material (E, nu), the other
+sub-models (:class:`SubModels`: :class:`Normal` hertz/dmt/jkr, :class:`Tangential`,
+:class:`Rolling`, :class:`Twisting`, heat, cutoff) and an optional wall and gives the ``plugin
+load``, ``pair_style``, ``pair_coeff`` and wall-fix lines, all written by :func:`contact_words`
+(syntax: ``pair_coeff I J NORMAL damping LAW [p P] FORM [end force|overlap] tangential TMODEL
+[rolling sds KR GAMMAR MUR] [twisting marshall|sds KT GAMMAT MUT] [heat area K] [cutoff C]``,
+NORMAL = ``hertz/material E NU | dmt E NU W | jkr E NU W``, FORM = ``alpha A vref V [beta B]``
+or ``c0 C [tau S]``).
 
 Per contact the plugin computes, with that contact's m* and k_Hertz = (4/3) E* sqrt(R*)
 (SPEC sections 3 and 9),
@@ -23,6 +27,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass
 from typing import Any
@@ -35,7 +40,8 @@ from ._text import check_type_spec, quote_path
 
 __all__ = ["DemLaw", "CoeffLines", "contact_law", "coeff_lines", "WALL_FIX_ID", "UNIT_STYLES",
            "convert", "check_units", "mixed_material", "ParticleType", "Wall", "PairLine", "CoeffSet",
-           "coeff_set"]
+           "coeff_set", "Normal", "Tangential", "Rolling", "Twisting", "SubModels", "contact_words",
+           "NORMAL_MODELS", "TANGENTIAL_MODELS"]
 
 #: the id of the wall fix :func:`coeff_lines` writes
 WALL_FIX_ID = "vcwall"
@@ -275,12 +281,6 @@ class CoeffLines:
         return asdict(self)
 
 
-def _tangential(friction: float | None) -> str:
-    if friction is None:
-        return "tangential none"
-    return f"tangential mindlin {_num(domain.check('friction', friction, label='friction coefficient mu'))}"
-
-
 def _load_line(plugin: str | os.PathLike | None) -> str:
     """``plugin load '<path>'`` (the cached plugin when ``plugin`` is None), quoted for LAMMPS."""
     if plugin is None:
@@ -316,10 +316,334 @@ def _material_words(pair: tuple[float, float] | None, units: str) -> str:
     return f"wall_material {_num(convert(pair[0], 'pressure', units))} {_num(pair[1])}"
 
 
+# ------------------------------------------------------------------ the other sub-models
+#: quantity -> exponents of (mass, length, time) for the sub-models' coefficients
+_DIMS.update({
+    "surface_energy": (1, 0, -2),       # W [J/m^2 = N/m]
+    "stiffness": (1, 0, -2),            # linear_history KT, rolling KR [N/m]
+    "stiffness_area": (1, -1, -2),      # mindlin KT [N/m^2] (times the contact radius a)
+    "damping": (1, 0, -1),              # rolling GAMMAR [N s/m]
+    "torque_stiffness": (1, 2, -2),     # twisting sds KT [N m/rad]
+    "torque_damping": (1, 2, -1),       # twisting sds GAMMAT [N m s]
+    "conductance": (1, 0, -3),          # heat area K [W/(m^2 K)]
+})
+
+NORMAL_MODELS = ("hertz", "dmt", "jkr")
+TANGENTIAL_MODELS = ("none", "linear_nohistory", "linear_history", "mindlin", "mindlin_rescale",
+                     "mindlin/force", "mindlin_rescale/force")
+#: tangential models with an elastic spring (the ones twisting marshall needs)
+SPRING_MODELS = TANGENTIAL_MODELS[2:]
+
+
+def _nonneg(label: str, value: Any) -> float:
+    """A finite number >= 0, else ValueError naming ``label``."""
+    v = domain.check_number(label, value)
+    if not (math.isfinite(v) and v >= 0):
+        raise ValueError(f"{label} must be a finite number >= 0, got {value!r}")
+    return v
+
+
+@dataclass(frozen=True)
+class Normal:
+    """The normal model: ``hertz`` (Hertz, no cohesion), ``dmt`` or ``jkr`` with the surface
+    energy ``W`` [J/m^2] (native's gamma; the work of adhesion is 2W).  Pull-off forces:
+    DMT 4 pi W R*, JKR 3 pi W R* (Derjaguin, Muller & Toporov 1975; Johnson, Kendall & Roberts
+    1971).  The damping law's k_Hertz ignores adhesion, so a calibrated e is that of the Hertz
+    part."""
+
+    model: str = "hertz"
+    W: float | None = None
+
+    def __post_init__(self) -> None:
+        domain.check_choice("normal model", self.model, NORMAL_MODELS)
+        if self.model == "hertz":
+            if self.W is not None:
+                raise ValueError("normal hertz takes no surface energy W (dmt W or jkr W do)")
+        elif self.W is None:
+            raise ValueError(f"normal {self.model} needs the surface energy W (J/m^2, >= 0)")
+        else:
+            object.__setattr__(self, "W", _nonneg(f"normal {self.model} W", self.W))
+
+    @property
+    def cohesive(self) -> bool:
+        return self.model != "hertz"
+
+    @classmethod
+    def from_any(cls, spec: Any) -> "Normal":
+        """From a Normal, ``"hertz"``, or ``("dmt", W)`` / ``("jkr", W)``."""
+        if isinstance(spec, cls):
+            return spec
+        if spec is None:
+            return cls()
+        if isinstance(spec, str):
+            return cls(spec)
+        if isinstance(spec, Sequence) and not isinstance(spec, bytes) and 1 <= len(spec) <= 2:
+            return cls(*spec)
+        raise ValueError(f"normal must be 'hertz', ('dmt', W) or ('jkr', W); got {spec!r}")
+
+    def pair_words(self, E: float, nu: float, units: str) -> str:
+        """``hertz/material E NU``, ``dmt E NU W`` or ``jkr E NU W`` of a pair_coeff line."""
+        words = ["hertz/material" if self.model == "hertz" else self.model,
+                 _num(convert(E, "pressure", units)), _num(nu)]
+        if self.cohesive:
+            words.append(_num(convert(self.W, "surface_energy", units)))
+        return " ".join(words)
+
+    def wall_words(self, units: str) -> str:
+        """``normal dmt W`` / ``normal jkr W`` of a wall fix ('' for hertz, the default)."""
+        if not self.cohesive:
+            return ""
+        return f"normal {self.model} {_num(convert(self.W, 'surface_energy', units))}"
+
+
+@dataclass(frozen=True)
+class Tangential:
+    """The tangential model (Mindlin 1949; Cundall & Strack 1979 for the linear spring).
+
+    ``model`` in :data:`TANGENTIAL_MODELS`; ``kt``: the spring, N/m for ``linear_history``
+    (required), N/m^2 for the mindlin family (k_t = kt a; None = NULL: k_t = 8 G* a);
+    ``xgamma``: tangential damping eta_t = xgamma eta_n (the law's normal prefactor);
+    ``mu``: Coulomb coefficient.  ``none`` has no force.  ``mindlin`` with kt None and
+    xgamma 0 is written in the short form ``tangential mindlin MU``.
+    """
+
+    model: str = "none"
+    kt: float | None = None
+    xgamma: float = 0.0
+    mu: float = 0.0
+
+    def __post_init__(self) -> None:
+        domain.check_choice("tangential model", self.model, TANGENTIAL_MODELS)
+        m = self.model
+        object.__setattr__(self, "xgamma", _nonneg(f"tangential {m} XGAMMA", self.xgamma))
+        object.__setattr__(self, "mu", domain.check("friction", self.mu, label=f"tangential {m} MU"))
+        if m == "none":
+            if self.kt is not None or self.xgamma or self.mu:
+                raise ValueError("tangential none takes no KT, XGAMMA or MU")
+        elif m == "linear_nohistory":
+            if self.kt is not None:
+                raise ValueError("tangential linear_nohistory takes XGAMMA MU, no spring KT")
+        elif m == "linear_history":
+            if self.kt is None:
+                raise ValueError("tangential linear_history needs the spring KT (N/m, >= 0)")
+            object.__setattr__(self, "kt", _nonneg("tangential linear_history KT", self.kt))
+        elif self.kt is not None:
+            object.__setattr__(self, "kt", _nonneg(f"tangential {m} KT", self.kt))
+
+    @classmethod
+    def from_any(cls, spec: Any) -> "Tangential":
+        """From a Tangential, a model name, or (model, *numbers) as on the line
+        (``("mindlin", 0.5)`` is the short form; ``"NULL"`` or None for a mindlin KT)."""
+        if isinstance(spec, cls):
+            return spec
+        if spec is None:
+            return cls()
+        if isinstance(spec, str):
+            spec = (spec,)
+        if not isinstance(spec, Sequence) or isinstance(spec, bytes) or not spec:
+            raise ValueError(f"tangential must be a model name or (model, numbers...); got {spec!r}")
+        model, *nums = spec
+        domain.check_choice("tangential model", model, TANGENTIAL_MODELS)
+        nums = [None if (isinstance(x, str) and x.upper() == "NULL") else x for x in nums]
+        want = {"none": 0, "linear_nohistory": 2, "linear_history": 3}.get(model, 3)
+        if model == "mindlin" and len(nums) == 1:
+            return cls("mindlin", mu=nums[0])
+        if len(nums) != want:
+            usage = {0: "", 2: " XGAMMA MU", 3: " KT XGAMMA MU" if model == "linear_history"
+                     else " KT|NULL XGAMMA MU"}[want]
+            raise ValueError(f"tangential {model} takes{usage or ' no numbers'}"
+                             + (" (or the short form: mindlin MU)" if model == "mindlin" else "")
+                             + f"; got {len(nums)} number(s)")
+        if want == 2:
+            return cls(model, xgamma=nums[0], mu=nums[1])
+        if want == 3:
+            return cls(model, kt=nums[0], xgamma=nums[1], mu=nums[2])
+        return cls(model)
+
+    @property
+    def spring(self) -> bool:
+        return self.model in SPRING_MODELS
+
+    def words(self, units: str) -> str:
+        m = self.model
+        if m == "none":
+            return "tangential none"
+        if m == "mindlin" and self.kt is None and self.xgamma == 0:
+            return f"tangential mindlin {_num(self.mu)}"
+        words = ["tangential", m]
+        if m != "linear_nohistory":
+            dims = "stiffness" if m == "linear_history" else "stiffness_area"
+            words.append("NULL" if self.kt is None else _num(convert(self.kt, dims, units)))
+        return " ".join(words + [_num(self.xgamma), _num(self.mu)])
+
+
+@dataclass(frozen=True)
+class Rolling:
+    """Rolling resistance ``sds`` (spring-dashpot-slider, Luding 2008; Wang et al. 2015):
+    spring ``kr`` [N/m] (> 0), dashpot ``gammar`` [N s/m], friction ``mur``; the resisting
+    torque is at most mur R* F0."""
+
+    kr: float
+    gammar: float
+    mur: float
+
+    def __post_init__(self) -> None:
+        kr = _nonneg("rolling sds KR", self.kr)
+        if kr == 0:
+            raise ValueError("rolling sds KR must be > 0 (the slip update divides by it)")
+        object.__setattr__(self, "kr", kr)
+        object.__setattr__(self, "gammar", _nonneg("rolling sds GAMMAR", self.gammar))
+        object.__setattr__(self, "mur", _nonneg("rolling sds MUR", self.mur))
+
+    @classmethod
+    def from_any(cls, spec: Any) -> "Rolling | None":
+        """From a Rolling, None, or (KR, GAMMAR, MUR) (optionally led by ``"sds"``)."""
+        if spec is None or isinstance(spec, cls):
+            return spec
+        if isinstance(spec, Sequence) and not isinstance(spec, (str, bytes)):
+            nums = list(spec[1:]) if spec and spec[0] == "sds" else list(spec)
+            if len(nums) == 3:
+                return cls(*nums)
+        raise ValueError(f"rolling must be sds KR GAMMAR MUR; got {spec!r}")
+
+    def words(self, units: str) -> str:
+        return (f"rolling sds {_num(convert(self.kr, 'stiffness', units))} "
+                f"{_num(convert(self.gammar, 'damping', units))} {_num(self.mur)}")
+
+
+@dataclass(frozen=True)
+class Twisting:
+    """Twisting resistance: ``marshall`` (Marshall 2009; stiffness, damping and limit from the
+    tangential model) or ``sds`` with ``kt`` [N m/rad] (> 0), ``gammat`` [N m s] and ``mut``,
+    a LENGTH [m] (the torque limit is mut F0, as native's code)."""
+
+    model: str = "marshall"
+    kt: float | None = None
+    gammat: float | None = None
+    mut: float | None = None
+
+    def __post_init__(self) -> None:
+        domain.check_choice("twisting model", self.model, ("marshall", "sds"))
+        nums = (self.kt, self.gammat, self.mut)
+        if self.model == "marshall":
+            if any(x is not None for x in nums):
+                raise ValueError("twisting marshall takes no numbers (they come from the tangential model)")
+            return
+        if any(x is None for x in nums):
+            raise ValueError("twisting sds needs KT GAMMAT MUT")
+        kt = _nonneg("twisting sds KT", self.kt)
+        if kt == 0:
+            raise ValueError("twisting sds KT must be > 0 (the slip update divides by it)")
+        object.__setattr__(self, "kt", kt)
+        object.__setattr__(self, "gammat", _nonneg("twisting sds GAMMAT", self.gammat))
+        object.__setattr__(self, "mut", _nonneg("twisting sds MUT", self.mut))
+
+    @classmethod
+    def from_any(cls, spec: Any) -> "Twisting | None":
+        """From a Twisting, None, ``"marshall"`` or ``("sds", KT, GAMMAT, MUT)``."""
+        if spec is None or isinstance(spec, cls):
+            return spec
+        if isinstance(spec, str):
+            spec = (spec,)
+        if isinstance(spec, Sequence) and not isinstance(spec, bytes) and spec:
+            if spec[0] == "marshall" and len(spec) == 1:
+                return cls("marshall")
+            if spec[0] == "sds" and len(spec) == 4:
+                return cls("sds", *spec[1:])
+        raise ValueError(f"twisting must be marshall or sds KT GAMMAT MUT; got {spec!r}")
+
+    def words(self, units: str) -> str:
+        if self.model == "marshall":
+            return "twisting marshall"
+        return (f"twisting sds {_num(convert(self.kt, 'torque_stiffness', units))} "
+                f"{_num(convert(self.gammat, 'torque_damping', units))} "
+                f"{_num(convert(self.mut, 'length', units))}")
+
+
+@dataclass(frozen=True)
+class SubModels:
+    """Everything of a contact but the damping law: normal, tangential, rolling, twisting,
+    heat conduction ``heat`` K [W/(m^2 K)] (Q = K pi a^2 (T_j - T_i)) and the pair
+    ``cutoff`` [m] (None: automatic).  :meth:`build` takes the loose forms the public functions
+    accept; :func:`contact_words` writes them for a pair or a wall."""
+
+    normal: Normal = Normal()
+    tangential: Tangential = Tangential()
+    rolling: Rolling | None = None
+    twisting: Twisting | None = None
+    heat: float | None = None
+    cutoff: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.twisting is not None and self.twisting.model == "marshall" and not self.tangential.spring:
+            raise ValueError("twisting marshall needs a tangential spring (linear_history or a "
+                             f"mindlin model), got tangential {self.tangential.model}")
+        if self.heat is not None:
+            object.__setattr__(self, "heat", _nonneg("heat area K", self.heat))
+        if self.cutoff is not None:
+            c = _nonneg("cutoff", self.cutoff)
+            if c == 0:
+                raise ValueError("cutoff must be > 0 (leave it out for the automatic cutoff)")
+            object.__setattr__(self, "cutoff", c)
+
+    @classmethod
+    def build(cls, *, normal: Any = None, tangential: Any = None, friction: float | None = None,
+              rolling: Any = None, twisting: Any = None, heat: float | None = None,
+              cutoff: float | None = None) -> "SubModels":
+        """From the keyword arguments of :func:`coeff_lines` / :func:`coeff_set`
+        (``friction`` MU is the short form ``tangential mindlin MU``)."""
+        if friction is not None and tangential is not None:
+            raise ValueError("give friction (the short form tangential mindlin MU) or tangential, not both")
+        if friction is not None:
+            tang = Tangential("mindlin", mu=domain.check("friction", friction,
+                                                        label="friction coefficient mu"))
+        else:
+            tang = Tangential.from_any(tangential)
+        return cls(Normal.from_any(normal), tang, Rolling.from_any(rolling),
+                   Twisting.from_any(twisting), heat, cutoff)
+
+    def check_law(self, law: DemLaw) -> None:
+        """dmt and jkr take no clamp (``end force``), as native refuses limit_damping there."""
+        if self.normal.cohesive and law.end == "force":
+            raise ValueError(f"normal {self.normal.model} needs end overlap (no clamp with "
+                             "cohesion): contact_law(..., end='overlap') or --end overlap")
+
+    def tail(self, law: DemLaw, units: str, *, pair: bool) -> str:
+        """``damping ... tangential ... [rolling ...] [twisting ...] [heat area K]`` (pair: and
+        ``[cutoff C]``)."""
+        self.check_law(law)
+        words = [law.keywords(units), self.tangential.words(units)]
+        words += [m.words(units) for m in (self.rolling, self.twisting) if m is not None]
+        if self.heat is not None:
+            words.append(f"heat area {_num(convert(self.heat, 'conductance', units))}")
+        if pair and self.cutoff is not None:
+            words.append(f"cutoff {_num(convert(self.cutoff, 'length', units))}")
+        return " ".join(words)
+
+
+def contact_words(law: DemLaw, sub: SubModels, units: str, *, E: float | None = None,
+                  nu: float | None = None, wall: "Wall | None" = None,
+                  wall_material: tuple[float, float] | None = None) -> str:
+    """The one writer of contact keywords: a pair_coeff line's after the types
+    (``NORMAL E NU [W] damping ... tangential ...``) or, with ``wall``, a wall fix's after
+    ``viscontact/wall`` (``GEOMETRY wall_material ... [normal dmt|jkr W] damping ...
+    [temperature T] [wiggle|shear ...]``); ``wall_material`` None is rigid."""
+    if wall is None:
+        return f"{sub.normal.pair_words(E, nu, units)} {sub.tail(law, units, pair=True)}"
+    if sub.heat is not None and wall.temperature is None:
+        raise ValueError("a wall with heat conduction needs its temperature (Wall(..., "
+                         "temperature=T) or --wall-temperature T)")
+    words = [wall.geometry(units), _material_words(wall_material, units), sub.normal.wall_words(units),
+             sub.tail(law, units, pair=False), wall.motion_words(sub, units)]
+    return " ".join(w for w in words if w)
+
+
 def coeff_lines(
     law: DemLaw, *, E: float, nu: float, friction: float | None = None,
     wall: str | tuple[float, float] | None = None, types: str = "* *",
-    plugin: str | os.PathLike | None = None, units: str = "si",
+    plugin: str | os.PathLike | None = None, units: str = "si", normal: Any = None,
+    tangential: Any = None, rolling: Any = None, twisting: Any = None,
+    heat: float | None = None, cutoff: float | None = None,
 ) -> CoeffLines:
     """The lines that set up ``law`` for particles of Young's modulus ``E`` [Pa] and Poisson
     ratio ``nu`` (each in its domain, :mod:`viscontact.domain`: modulus, poisson).
@@ -333,6 +657,14 @@ def coeff_lines(
     the plugin file; None builds or finds it (:func:`viscontact.dem.plugin_path`); the path is
     quoted (:func:`viscontact.dem._text.quote_path`).  ``units``: the LAMMPS unit style the
     numbers are printed in (values given in SI; ``lj``: reduced units, unchanged).
+
+    The other sub-models (SI values; :class:`SubModels`): ``normal`` ``"hertz"`` (default),
+    ``("dmt", W)`` or ``("jkr", W)`` (W [J/m^2]; needs ``end="overlap"``); ``tangential`` a
+    :class:`Tangential` or ``(MODEL, numbers...)`` as on the line, e.g.
+    ``("linear_history", KT, XGAMMA, MU)`` (``friction`` MU is the short form mindlin MU);
+    ``rolling`` ``(KR, GAMMAR, MUR)`` (sds); ``twisting`` ``"marshall"`` or
+    ``("sds", KT, GAMMAT, MUT)``; ``heat`` K (conduction ``heat area K``); ``cutoff`` [m].
+    The wall fix gets the same sub-models (one writer: :func:`contact_words`).
     """
     if not isinstance(law, DemLaw):
         raise ValueError(f"law must be a DemLaw from contact_law(...); got {type(law).__name__}")
@@ -340,15 +672,16 @@ def coeff_lines(
     E = domain.check("modulus", E, label="E (Young's modulus)")
     nu = check_poisson("nu (Poisson ratio)", nu)
     spec = check_type_spec(types)
-    tang = _tangential(friction)
+    sub = SubModels.build(normal=normal, tangential=tangential, friction=friction,
+                          rolling=rolling, twisting=twisting, heat=heat, cutoff=cutoff)
     wall_fix = None
     if wall is not None:
-        wall_fix = (f"fix {WALL_FIX_ID} all viscontact/wall zplane 0.0 NULL "
-                    f"{_material_words(_wall_pair(wall, E, nu), units)} {law.keywords(units)} {tang}")
+        floor = Wall("zplane", (0.0, None), "rigid")
+        wall_fix = (f"fix {WALL_FIX_ID} all viscontact/wall "
+                    + contact_words(law, sub, units, wall=floor, wall_material=_wall_pair(wall, E, nu)))
     return CoeffLines(
         plugin_load=_load_line(plugin), pair_style="pair_style viscontact",
-        pair_coeff=f"pair_coeff {spec} hertz/material {_num(convert(E, 'pressure', units))} "
-                   f"{_num(nu)} {law.keywords(units)} {tang}",
+        pair_coeff=f"pair_coeff {spec} {contact_words(law, sub, units, E=E, nu=nu)}",
         wall_fix=wall_fix,
     )
 
@@ -432,23 +765,35 @@ class ParticleType:
             raise ValueError(f"particle type {index}: {exc}") from None
 
 
+_DIMS_XYZ = ("x", "y", "z")
+
+
 @dataclass(frozen=True)
 class Wall:
-    """A static wall of ``fix viscontact/wall``: ``style`` xplane|yplane|zplane with
-    ``args`` (LO, HI) (a coordinate [m] or None for NULL), or zcylinder with (R,) [m];
-    ``material`` ``"rigid"`` or (E [Pa], nu)."""
+    """A wall of ``fix viscontact/wall``: ``style`` xplane|yplane|zplane with ``args``
+    (LO, HI) (a coordinate [m] or None for NULL), zcylinder with (R,) [m], or ``region`` with
+    (REGION-ID,) (any LAMMPS region, moving or rotating; several contacts per sphere);
+    ``material`` ``"rigid"``, ``"same"`` or (E [Pa], nu).  ``wiggle`` (DIM, A [m], PERIOD [s])
+    or ``shear`` (DIM, V [m/s]) move a plane or zcylinder (not a region: move the region);
+    ``temperature`` T [K] or ``"v_name"`` (an equal-style variable) is needed with heat."""
 
     style: str
-    args: tuple[float | None, ...]
+    args: tuple[Any, ...]
     material: Any = "rigid"
+    wiggle: tuple[str, float, float] | None = None
+    shear: tuple[str, float] | None = None
+    temperature: float | str | None = None
 
-    STYLES = ("xplane", "yplane", "zplane", "zcylinder")
+    STYLES = ("xplane", "yplane", "zplane", "zcylinder", "region")
 
     def __post_init__(self) -> None:
         if not isinstance(self.style, str) or self.style not in self.STYLES:
             raise ValueError(f"wall style must be one of {', '.join(self.STYLES)}, got {self.style!r}")
         args = tuple(self.args) if isinstance(self.args, (tuple, list)) else (self.args,)
-        if self.style == "zcylinder":
+        if self.style == "region":
+            if len(args) != 1 or not isinstance(args[0], str) or not re.fullmatch(r"[A-Za-z0-9_]+", args[0]):
+                raise ValueError("region wall needs the region ID (letters, digits and _)")
+        elif self.style == "zcylinder":
             if len(args) != 1 or args[0] is None:
                 raise ValueError("zcylinder needs its radius R (> 0)")
             r = domain.check_number("zcylinder R", args[0])
@@ -469,11 +814,66 @@ class Wall:
         object.__setattr__(self, "args", args)
         object.__setattr__(self, "material", "rigid" if self.material is None else self.material)
         _wall_pair(self.material, 1.0, 0.0)  # validates (same is resolved by the caller)
+        self._check_motion()
+        t = self.temperature
+        if isinstance(t, str):
+            if not re.fullmatch(r"v_[A-Za-z0-9_]+", t):
+                raise ValueError(f"wall temperature must be a number (K) or v_NAME, got {t!r}")
+        elif t is not None:
+            object.__setattr__(self, "temperature", _positive("wall temperature", t))
+
+    def _check_motion(self) -> None:
+        if self.wiggle is not None and self.shear is not None:
+            raise ValueError("a wall takes wiggle or shear, not both")
+        motion = self.wiggle if self.wiggle is not None else self.shear
+        if motion is None:
+            return
+        what = "wiggle" if self.wiggle is not None else "shear"
+        if self.style == "region":
+            raise ValueError(f"{what} is for plane and zcylinder walls; move a region wall with "
+                             "the region's own move/rotate keywords")
+        want = 3 if what == "wiggle" else 2
+        if isinstance(motion, (str, bytes)) or not isinstance(motion, Sequence) or len(motion) != want:
+            raise ValueError(f"{what} needs {'DIM A PERIOD' if what == 'wiggle' else 'DIM V'}")
+        dim = motion[0]
+        if dim not in _DIMS_XYZ:
+            raise ValueError(f"{what} DIM must be x, y or z, got {dim!r}")
+        if what == "wiggle":
+            if self.style == "zcylinder" and dim != "z":
+                raise ValueError("a zcylinder wiggles only along z")
+            amp = domain.check_number("wiggle A", motion[1])
+            period = _positive("wiggle PERIOD", motion[2])
+            if not math.isfinite(amp):
+                raise ValueError(f"wiggle A must be a finite length, got {motion[1]!r}")
+            object.__setattr__(self, "wiggle", (dim, amp, period))
+        else:
+            if self.style != "zcylinder" and dim == self.style[0]:
+                raise ValueError(f"a {self.style} shears in its plane: DIM must not be {dim}")
+            v = domain.check_number("shear V", motion[1])
+            if not math.isfinite(v):
+                raise ValueError(f"shear V must be a finite velocity, got {motion[1]!r}")
+            object.__setattr__(self, "shear", (dim, v))
 
     def geometry(self, units: str) -> str:
-        """``zplane 0.0 NULL`` / ``zcylinder 0.05`` with lengths in ``units``."""
+        """``zplane 0.0 NULL`` / ``zcylinder 0.05`` / ``region drum`` with lengths in ``units``."""
+        if self.style == "region":
+            return f"region {self.args[0]}"
         words = ["NULL" if a is None else _num(convert(a, "length", units)) for a in self.args]
         return " ".join([self.style, *words])
+
+    def motion_words(self, sub: "SubModels", units: str) -> str:
+        """``[temperature T] [wiggle DIM A PERIOD | shear DIM V]`` (temperature only with heat)."""
+        words = []
+        if sub.heat is not None and self.temperature is not None:
+            t = self.temperature
+            words.append(f"temperature {t if isinstance(t, str) else _num(t)}")
+        if self.wiggle is not None:
+            dim, amp, period = self.wiggle
+            words.append(f"wiggle {dim} {_num(convert(amp, 'length', units))} "
+                         f"{_num(convert(period, 'time', units))}")
+        if self.shear is not None:
+            words.append(f"shear {self.shear[0]} {_num(convert(self.shear[1], 'velocity', units))}")
+        return " ".join(words)
 
 
 @dataclass(frozen=True)
@@ -543,7 +943,9 @@ def coeff_set(
     alpha: float | None = None, c0: float | None = None, beta: float | None = None,
     tau: float | None = None, p: float | None = None, end: str = "force",
     friction: float | None = None, walls: Sequence[Wall] = (), units: str = "si",
-    plugin: str | os.PathLike | None = None, pair_types: str = "* *",
+    plugin: str | os.PathLike | None = None, pair_types: str = "* *", normal: Any = None,
+    tangential: Any = None, rolling: Any = None, twisting: Any = None,
+    heat: float | None = None, cutoff: float | None = None,
 ) -> CoeffSet:
     """The lines of one law for several particle types, with exact restitution per pair.
 
@@ -558,9 +960,13 @@ def coeff_set(
     wall on group ``all`` when every type has the same wall e, else one group ``vctypeI`` and
     one fix per type.  ``units``: the style the numbers are printed in (given in SI; lj:
     reduced units, unchanged).  ``pair_types``: with one particle type, the type pair of its
-    line (default ``* *``: every type).  ValueError / TypeError say what is wrong.
+    line (default ``* *``: every type).  ``normal``, ``tangential``, ``rolling``, ``twisting``,
+    ``heat``, ``cutoff``: the other sub-models, as in :func:`coeff_lines`, the same for every
+    pair and wall.  ValueError / TypeError say what is wrong.
     """
     units = check_units(units)
+    sub = SubModels.build(normal=normal, tangential=tangential, friction=friction,
+                          rolling=rolling, twisting=twisting, heat=heat, cutoff=cutoff)
     if isinstance(particles, (str, bytes, Mapping)) or not isinstance(particles, Sequence):
         raise TypeError("particles must be a list of particle types (ParticleType or mappings)")
     types = [ParticleType.from_any(t, k + 1) for k, t in enumerate(particles)]
@@ -595,7 +1001,6 @@ def coeff_set(
             raise ValueError(f"no target e for {what}: give e (all contacts) or its own")
         return value
 
-    tang = _tangential(friction)
     pairs = []
     for i in range(1, n + 1):
         for j in range(i, n + 1):
@@ -603,8 +1008,7 @@ def coeff_set(
             a, b = types[i - 1], types[j - 1]
             E, nu = (a.E, a.nu) if i == j else mixed_material(a.E, a.nu, b.E, b.nu)
             spec = check_type_spec(pair_types) if n == 1 else f"{i} {j}"
-            line = (f"pair_coeff {spec} hertz/material {_num(convert(E, 'pressure', units))} "
-                    f"{_num(nu)} {dl.keywords(units)} {tang}")
+            line = f"pair_coeff {spec} {contact_words(dl, sub, units, E=E, nu=nu)}"
             pairs.append(PairLine(types=(i, j), E=E, nu=nu, law=dl, line=line))
     wall_lines: list[str] = []
     wall_laws = {t: law_for(target(f"type {t} at the walls", wall_e, t)) for t in range(1, n + 1)} if walls else {}
@@ -615,12 +1019,11 @@ def coeff_set(
     wall_mats = [_wall_pair(w.material, *own) for w in walls]
     for k, w in enumerate(walls):
         fid = WALL_FIX_ID if k == 0 else f"{WALL_FIX_ID}{k + 1}"
-        mat = _material_words(wall_mats[k], units)
         groups = [(f"{fid}_t{t}", f"vctype{t}", wall_laws[t]) for t in range(1, n + 1)] if per_type \
             else [(fid, "all", wall_laws[1])]
         for fix_id, group, dl in groups:
-            wall_lines.append(f"fix {fix_id} {group} viscontact/wall {w.geometry(units)} {mat} "
-                              f"{dl.keywords(units)} {tang}")
+            wall_lines.append(f"fix {fix_id} {group} viscontact/wall "
+                              + contact_words(dl, sub, units, wall=w, wall_material=wall_mats[k]))
     return CoeffSet(units=units, pairs=tuple(pairs),
                     comments=_time_comments(types, wall_mats, pairs, vref, units),
                     plugin_load=_load_line(plugin), wall_lines=tuple(wall_lines))

@@ -227,6 +227,9 @@ void PairViscontact::init_style()
     probe.track_energy = energy_on;
     probe.setup(layout_xi, layout_aprev, layout_roll, layout_twist, layout_t0);
     dnum = probe.history_size();
+    if (dnum > MAX_HISTORY)    // the setup call's scratch copies hold MAX_HISTORY values
+      error->all(FLERR, fmt::format("pair viscontact: internal: history of {} values exceeds {}",
+                                    dnum, static_cast<int>(MAX_HISTORY)));
     hsign.assign(dnum, 1.0);
     probe.history_signs(hsign.data());
   }

@@ -133,6 +133,10 @@ struct ContactResult {
   double power;               ///< total dissipated power of the step (sum dissipated / dt)
 };
 
+/// Dashpot forces and pending half-step works kept per contact for the energy count
+/// (HistorySlots::damp, track_energy only).
+constexpr int NDAMP = 14;
+
 /// History slot offsets of a model (-1: absent).  The total is history_size().
 struct HistorySlots {
   int touch = 0;       ///< 1 while the contact exists (jkr: until pull-off)
@@ -143,6 +147,14 @@ struct HistorySlots {
   int a_prev = -1;     ///< contact radius of the last step (mindlin family, marshall)
   int roll = -1;       ///< rolling displacement (3)
   int twist = -1;      ///< twisting angle (1)
+  /// the dashpot forces of the last step (0 normal F_d, 1-3 tangential, 4-6 rolling, 7 twisting
+  /// torque): each dashpot's work over a step is the trapezoid (F_last + F_now)/2 . v dt, the
+  /// work velocity Verlet does (the force of step n acts on the displacements before and
+  /// after); 8-13 the second half of the last forces' work, -(F_last/2) . v dt with this step's
+  /// v (normal damping, tangential damping, rolling, twisting, the elastic normal force, the
+  /// tangential spring), counted by release() when the contact ends (its next displacement is
+  /// v dt to first order: O(dt^2) per contact).  NDAMP values, track_energy only.
+  int damp = -1;
   int size = 1;
 };
 
@@ -213,6 +225,8 @@ class ContactModel {
       slots.energy = n++;
       slots.elastic = n;
       n += NELASTIC;
+      slots.damp = n;
+      n += NDAMP;
     }
     if (has_tangential_history() || force_xi) { slots.xi = n; n += 3; }
     if (needs_aprev() || force_aprev) slots.a_prev = n++;
@@ -231,6 +245,8 @@ class ContactModel {
     if (slots.xi >= 0) for (int k = 0; k < 3; k++) sign[slots.xi + k] = -1.0;
     if (slots.roll >= 0) for (int k = 0; k < 3; k++) sign[slots.roll + k] = -1.0;
     if (slots.twist >= 0) sign[slots.twist] = -1.0;
+    // the dashpot forces flip (tangential, rolling, twisting); F_d along n and the works do not
+    if (slots.damp >= 0) for (int k = 1; k < 8; k++) sign[slots.damp + k] = -1.0;
   }
 
   /// The last step's contact radius is kept: rescale models (native), and for the energy of
@@ -291,7 +307,14 @@ class ContactModel {
     diss[DISS_SLIDING] += e[ELASTIC_TANGENTIAL];
     diss[DISS_ROLLING] += e[ELASTIC_ROLLING];
     diss[DISS_TWISTING] += e[ELASTIC_TWISTING];
-    return e[0] + e[1] + e[2] + e[3];
+    const double *p = &h[slots.damp + 8];    // the dashpots' pending half-step of work
+    diss[DISS_NORMAL_DAMPING] += p[0];
+    diss[DISS_TANGENTIAL_DAMPING] += p[1];
+    diss[DISS_ROLLING] += p[2];
+    diss[DISS_TWISTING] += p[3];
+    diss[DISS_ADHESION] += p[4];
+    diss[DISS_SLIDING] += p[5];
+    return e[0] + e[1] + e[2] + e[3] + p[0] + p[1] + p[2] + p[3] + p[4] + p[5];
   }
 
   /// THE contact step.  history: history_size() values of this contact (touch slot 0: a new
@@ -414,13 +437,14 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
   const double eta_t = tangential.xgamma * eta_n;
   const double fscrit = tangential.mu * F0;
   double dsl = 0.0, dtd = 0.0, el_t = 0.0;
+  double fdamp_t[3] = {0.0, 0.0, 0.0};    // the tangential dashpot force this step
   if (tangential.kind == TangentialKind::LinearNoHistory) {
     const double vrel = std::sqrt(dot3(vtr, vtr));
     if (vrel != 0.0) {
       const double fmag = eta_t * vrel;
       const double s = (fmag < fscrit ? fmag : fscrit) / vrel;
       for (int k = 0; k < 3; k++) ft[k] = -s * vtr[k];
-      dtd = s * vrel * vrel * dt;
+      for (int k = 0; k < 3; k++) fdamp_t[k] = ft[k];
     }
   } else if (tangential.kind != TangentialKind::None) {
     double *xi = &h[slots.xi];
@@ -454,6 +478,7 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
       fdmp[k] = -eta_t * vtr[k];
       ft[k] = (force_form ? xi[k] : -kt * xi[k]) + fdmp[k];
     }
+    for (int k = 0; k < 3; k++) fdamp_t[k] = fdmp[k];
     const double x_pre[3] = {xi[0], xi[1], xi[2]};
     const double magfs = std::sqrt(dot3(ft, ft));
     if (magfs > fscrit) {
@@ -465,22 +490,19 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
           xi[k] = (ft[k] - fdmp[k]) * back;
         }
         // the capped force is the rescaled spring plus the whole dashpot (native's rewrite of
-        // xi), so the dashpot still dissipates eta |v|^2 dt.  Sliding friction: the slip
-        // (the displacement the cap removes) times the spring force averaged over the step (the
-        // trapezoid of velocity Verlet, under which a linear spring conserves energy exactly)
-        if (E_on) {
-          dtd = eta_t * dot3(vtr, vtr) * dt;
+        // xi), so the whole dashpot still works (counted with the dashpots below).  Sliding
+        // friction: the slip (the displacement the cap removes) times the spring force averaged
+        // over the step (the trapezoid of velocity Verlet, under which a linear spring conserves
+        // energy exactly)
+        if (E_on)
           dsl += force_form ? (kt > 0.0 ? trapezoid_slip(x_old, x_pre, xi) / kt : 0.0)
                             : kt * trapezoid_slip(x_old, x_pre, xi);
-        }
       } else {
         ft[0] = ft[1] = ft[2] = 0.0;
+        fdamp_t[0] = fdamp_t[1] = fdamp_t[2] = 0.0;
       }
-    } else if (E_on) {
-      dtd = eta_t * dot3(vtr, vtr) * dt;
     }
     if (E_on) el_t = energy(xi, kt);
-    if (!(dtd >= 0.0)) dtd = 0.0;
   }
 
   // (8) torques of the tangential force
@@ -525,12 +547,21 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
         for (int k = 0; k < 3; k++) xr[k] = -frcrit / (kr * magfr) * fr[k] - rolling.gamma / kr * vrl[k];
         const double s = frcrit / magfr;
         for (int k = 0; k < 3; k++) fr[k] *= s;
-        drl = rolling.gamma * dot3(vrl, vrl) * dt + kr * trapezoid_slip(xr_old, xr_pre, xr);
+        if (E_on) drl = kr * trapezoid_slip(xr_old, xr_pre, xr);
       } else {
         fr[0] = fr[1] = fr[2] = 0.0;
       }
-    } else {
-      drl = rolling.gamma * dot3(vrl, vrl) * dt;
+    }
+    if (E_on) {
+      // the rolling dashpot (its force acts through the torque R* n x F on w_i - w_j, i.e. on
+      // v_R): the trapezoid of the last and this step's force
+      double *dpr = &h[slots.damp + 4];
+      for (int k = 0; k < 3; k++) {
+        const double fnow = -rolling.gamma * vrl[k];
+        drl -= 0.5 * (dpr[k] + fnow) * vrl[k] * dt;
+        if (advance) dpr[k] = fnow;
+      }
+      if (advance) h[slots.damp + 10] = -0.5 * dot3(fr, vrl) * dt;
     }
     el_r = 0.5 * kr * dot3(xr, xr);
     if (advance) for (int k = 0; k < 3; k++) h[slots.roll + k] = xr[k];
@@ -569,10 +600,16 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
     const double sgn = (wt > 0.0) - (wt < 0.0);
     if (std::fabs(tq) > tcrit) {
       xt = (tcrit * sgn - etw * wt) / ktw;
-      dtw += etw * wt * wt * dt + 0.5 * ktw * (xt_old + xt) * (xt_pre - xt);
+      dtw += 0.5 * ktw * (xt_old + xt) * (xt_pre - xt);
       tq = -tcrit * sgn;
-    } else {
-      dtw += etw * wt * wt * dt;
+    }
+    if (E_on) {
+      const double tnow = -etw * wt;    // the twisting dashpot: trapezoid as the others
+      dtw -= 0.5 * (h[slots.damp + 7] + tnow) * wt * dt;
+      if (advance) {
+        h[slots.damp + 7] = tnow;
+        h[slots.damp + 11] = -0.5 * tq * wt * dt;
+      }
     }
     el_w = 0.5 * ktw * xt * xt;
     res.tau_twist = tq;
@@ -599,13 +636,29 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
   res.elastic[ELASTIC_TANGENTIAL] = el_t;
   res.elastic[ELASTIC_ROLLING] = el_r;
   res.elastic[ELASTIC_TWISTING] = el_w;
-  res.dissipated[DISS_NORMAL_DAMPING] = -(fn - fne) * vn * dt;
+  // the dashpots' work: the trapezoid of the last and this step's force on this step's
+  // displacement (velocity Verlet's own rule; the right-point rule F_now . v dt alone is off by
+  // (dt/2) int F_d . dv, first order in dt)
+  double *dp = &h[slots.damp];
+  res.dissipated[DISS_NORMAL_DAMPING] = -0.5 * (dp[0] + (fn - fne)) * vn * dt;
+  for (int k = 0; k < 3; k++) dtd -= 0.5 * (dp[1 + k] + fdamp_t[k]) * vtr[k] * dt;
+  if (advance) {
+    dp[0] = fn - fne;
+    for (int k = 0; k < 3; k++) dp[1 + k] = fdamp_t[k];
+    dp[8] = -0.5 * (fn - fne) * vn * dt;
+    dp[9] = -0.5 * dot3(fdamp_t, vtr) * dt;
+    dp[12] = -0.5 * fne * vn * dt;
+    dp[13] = -0.5 * (dot3(ft, vtr) - dot3(fdamp_t, vtr)) * dt;
+  }
   res.dissipated[DISS_TANGENTIAL_DAMPING] = dtd;
   res.dissipated[DISS_SLIDING] = dsl;
   res.dissipated[DISS_ROLLING] = drl;
   res.dissipated[DISS_TWISTING] = dtw;
   // JKR snap-in: the elastic energy jumps from 0 (apart) to U < 0
-  res.dissipated[DISS_ADHESION] = (fresh && normal.kind == NormalKind::JKR) ? -U : 0.0;
+  // and the attraction's work over the step before, (F_ne/2) times that step's approach (the
+  // trapezoid of velocity Verlet with no force at the step before)
+  res.dissipated[DISS_ADHESION] =
+      (fresh && normal.kind == NormalKind::JKR) ? -U - 0.5 * fne * vn * dt : 0.0;
   double sum = 0.0;
   for (int k = 0; k < NDISS; k++) sum += res.dissipated[k];
   res.power = dt > 0.0 ? sum / dt : 0.0;
