@@ -15,7 +15,7 @@ resistance, JKR snap-in and pull-off hysteresis) of ``compute viscontact/energy`
 largest |E(t) - E(0)| over the run must stay below 1e-3 of the energy dissipated at dt = t_c/50
 (t_c: the Hertz contact time of the smallest pair at 1 m/s) and shrink at least linearly when dt
 halves (a law missing that target is an xfail that names its residuals; an accounting hole, which
-does not shrink with dt, fails: residual below 2e-3 and shrinking is asserted).  Both time
+does not shrink with dt, fails: residual below 1e-3 and shrinking is asserted).  Both time
 steps of every law run in one LAMMPS process.
 """
 
@@ -135,7 +135,7 @@ def test_energy_balance_closes(runs, law):
     assert np.all(np.diff(en["dissipated"]) >= -1e-12 * en["dissipated"][-1])
     # the balance converges (an accounting hole, e.g. a wall contact's spring energy dropped
     # when it ends, gives 1e-2 that does not shrink with dt)
-    assert r1 < 2e-3 and r2 < r1
-    if not (r1 < 1e-3 and r2 <= r1 / 2):  # the target; not met yet by every law: shown, not hidden
-        pytest.xfail(f"{law}: residual {r1:.2e} at t_c/50 (target < 1e-3), {r2:.2e} at t_c/100 "
-                     f"(target <= half)")
+    assert r1 < 1e-3 and r2 < r1
+    if not r2 <= r1 / 2:  # the halving target; missed narrowly by some laws: shown, not hidden
+        pytest.xfail(f"{law}: residual {r1:.2e} at t_c/50, {r2:.2e} at t_c/100 "
+                     f"(ratio {r1 / r2:.2f}, target >= 2)")
