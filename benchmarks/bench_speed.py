@@ -29,8 +29,8 @@ import numba
 import numpy as np
 
 import viscontact as vc
-from viscontact.laws import resolve
-from viscontact.solvers import BATCH_RTOL, solve_batch
+from viscontact.physics.laws import resolve
+from viscontact.solvers.batch import BATCH_RTOL, solve_batch
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))

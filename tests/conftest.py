@@ -10,7 +10,7 @@ import pytest
 from hypothesis import HealthCheck, settings
 
 import viscontact
-from viscontact import tables
+from viscontact.calibration import tables
 
 sys.path.insert(0, str(Path(__file__).parent))  # tests/references.py
 

@@ -16,7 +16,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 import viscontact as vc
-from viscontact import domain, fit
+from viscontact.physics import domain
+from viscontact import fit
 
 import fuzz_api_targets as F
 

