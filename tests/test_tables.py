@@ -1,7 +1,7 @@
 """Interpolation tables of e(alpha), e(alpha, beta) (issue 4, item 2).
 
 References: the exact batch solver at the tables' node tolerance (``tables.exact_e``, rtol
-1e-14, independent of the interpolation), and the closed forms of tests/references.py for
+1e-14, independent of the interpolation), and the closed forms of scripts/references.py for
 Hunt-Crossley and Tsuji.  Tables are built into the test session's temporary cache
 (conftest.py sets VISCONTACT_CACHE_DIR); building them relies on the compiled batch solver.
 """

@@ -18,7 +18,7 @@ from .calibration.inverse import ALPHA_MAX, alpha_from_e, restitution
 from .collision import (
     CollisionResult, ImpactResult, SweepResult, collide, impact, velocity_sweep,
 )
-from .experiment import Ball, PhysicalCalibration, calibrate_ball, calibrate_physical, load_balls
+from .paper.experiment import Ball, PhysicalCalibration, calibrate_ball, calibrate_physical, load_balls
 from .physics.laws import LAWS, MODELS, STUDY_MODELS, ContactLaw
 from .physics.pair import (
     ContactPair, contact_pair, damping_coefficient, damping_constants, drop_speed,
@@ -27,6 +27,12 @@ from .physics.pair import (
 from .solvers import END_CRITERIA, T_MAX
 
 _moved.install()
+
+
+def __getattr__(name: str):
+    """Old module paths as attributes (``viscontact.experiment``), through :mod:`._moved`."""
+    return _moved.attribute(name)
+
 
 __all__ = [
     "ALPHA_MAX", "alpha_from_e", "restitution",

@@ -27,6 +27,13 @@ MOVED: dict[str, str] = {
     "outputs": "_support.outputs",
     "parallel": "_support.parallel",
     "plotting": "collision.plots",
+    "experiment": "paper.experiment",
+    "study": "paper.study",
+    "report": "paper",
+    "report.build": "paper.report",
+    "report.figures": "paper.figures",
+    "report.html": "paper.html",
+    "report.tables": "paper.tables",
 }
 
 
@@ -47,6 +54,13 @@ class _OldPath(importlib.abc.MetaPathFinder, importlib.abc.Loader):
         # The import system returns whatever sys.modules holds under the name after this call.
         new = f"{__package__}.{MOVED[module.__name__.partition('.')[2]]}"
         sys.modules[module.__name__] = importlib.import_module(new)
+
+
+def attribute(name: str) -> ModuleType:
+    """``viscontact.<old name>`` as an attribute (the package's ``__getattr__``, PEP 562)."""
+    if name not in MOVED or "." in name:
+        raise AttributeError(f"module {__package__!r} has no attribute {name!r}")
+    return importlib.import_module(f"{__package__}.{name}")
 
 
 def install() -> None:

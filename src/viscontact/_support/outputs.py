@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
 import re
 import shutil
@@ -56,7 +57,8 @@ from pathlib import Path
 from typing import Any
 
 __all__ = ["OutputError", "MANIFEST", "LEGACY_MANIFESTS", "PNG_KEY", "OutputDir", "check_file",
-           "write_png", "write_text", "write_json", "written_by", "read_manifest", "text_marker"]
+           "write_png", "write_text", "write_json", "written_by", "read_manifest", "text_marker",
+           "finite_json"]
 
 MANIFEST = ".viscontact-output.json"
 LEGACY_MANIFESTS = {".viscontact-report": "reproduce"}
@@ -69,6 +71,17 @@ _JSON_MARK = re.compile(r'\{\s*"written_by":\s*"viscontact ' + _COMMAND)
 #: a LAMMPS log begins so; the input's first lines are echoed within its first few lines
 _LAMMPS_LOG = "LAMMPS ("
 _LAMMPS_ECHO_LINES = 12
+
+
+def finite_json(obj: Any) -> Any:
+    """Replace non-finite floats by None so the output is strict JSON."""
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    if isinstance(obj, dict):
+        return {k: finite_json(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [finite_json(v) for v in obj]
+    return obj
 
 
 class OutputError(ValueError):

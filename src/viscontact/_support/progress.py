@@ -63,7 +63,7 @@ class Progress:
         self._pending = weight
         self.describe(name)
         if self.log is not None:
-            print(f"{self.log}: [{time.perf_counter() - self.t0:5.1f} s] {name}",
+            print(f"{self.log}: [{time.perf_counter() - self.t0:6.1f} s] {name}",
                   file=self.stream, flush=True)
 
     def describe(self, text: str) -> None:

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from ..physics.pair import check_positive, contact_pair, drop_speed
-from ..experiment import PhysicalCalibration, ball, calibrate_physical, load_balls
+from ..paper.experiment import PhysicalCalibration, ball, calibrate_physical, load_balls
 from ..physics.laws import STUDY_MODELS, lookup
 from ..collision.sweep import SWEEP_FIELDS, velocity_sweep
 from .._support import outputs
@@ -270,7 +270,7 @@ def _sweep_csv(results) -> str:
 def _reproduce(args: argparse.Namespace) -> int:
     import time
 
-    from ..report import reproduce
+    from ..paper.report import reproduce
 
     t0 = time.perf_counter()
     out = reproduce(args.out, force=args.force, progress=None if args.quiet else sys.stderr)

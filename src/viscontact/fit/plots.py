@@ -14,7 +14,7 @@ from pathlib import Path
 from matplotlib.figure import Figure
 
 from ..collision.plots import LAW_COLORS, LAW_MARKERS
-from ..report.figures import MEASURED
+from ..paper.figures import MEASURED
 from .fitting import GlobalFit, LawFit
 from .recording import Measured
 

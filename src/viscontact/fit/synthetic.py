@@ -23,7 +23,7 @@ import numpy as np
 from ..calibration.inverse import alpha_from_e
 from ..collision.impact import ImpactResult, impact
 from ..physics.pair import damping_coefficient, drop_speed, time_scale
-from ..experiment import ball
+from ..paper.experiment import ball
 from .model import Trace
 from ..physics.laws import Jian
 

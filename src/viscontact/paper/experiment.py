@@ -14,13 +14,13 @@ from functools import lru_cache
 from importlib import resources
 from typing import Any
 
-from .physics import domain
-from .calibration.inverse import alpha_from_e
-from .collision.single import check_end
-from .physics.pair import (
+from ..physics import domain
+from ..calibration.inverse import alpha_from_e
+from ..collision.single import check_end
+from ..physics.pair import (
     damping_coefficient, damping_unit, time_scale,
 )
-from .physics.laws import STUDY_MODELS, lookup, resolve
+from ..physics.laws import STUDY_MODELS, lookup, resolve
 
 __all__ = [
     "Ball", "PhysicalCalibration", "load_balls", "ball", "data_source", "calibrate_physical",

@@ -18,7 +18,7 @@ from matplotlib.figure import Figure
 from ..physics.laws import LAWS, STUDY_MODELS
 from .._support.parallel import forked_map
 from ..collision.plots import LAW_COLORS, LAW_MARKERS
-from ..study import (
+from .study import (
     ALPHA_REF, BETA_GRID, BETA_REF, PUBLISHED_E, TABLE1_MODELS, BallStudy, StudyResults,
 )
 from ..physics.laws import Jian

@@ -13,15 +13,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .calibration.inverse import restitution
-from .collision.single import CollisionResult, collide
-from .collision.impact import ImpactResult, impact
-from .physics.pair import hertz_limit
+from ..calibration.inverse import restitution
+from ..collision.single import CollisionResult, collide
+from ..collision.impact import ImpactResult, impact
+from ..physics.pair import hertz_limit
 from .experiment import Ball, PhysicalCalibration, calibrate_ball, load_balls
-from .physics.laws import STUDY_MODELS
-from ._support.parallel import forked_map
-from .collision.sweep import SweepResult, study_speeds, velocity_sweep
-from .physics.laws import Hunt, Jian, KK, LH, Li, Ts
+from ..physics.laws import STUDY_MODELS
+from .._support.parallel import forked_map
+from ..collision.sweep import SweepResult, study_speeds, velocity_sweep
+from ..physics.laws import Hunt, Jian, KK, LH, Li, Ts
 
 __all__ = [
     "ALPHA_GRID", "PUBLISHED_E", "BETA_GRID", "TABLE1_MODELS", "ALPHA_REF", "BETA_REF", "SERIES_ALPHAS",

@@ -16,9 +16,9 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TextIO
 
-from .._support.outputs import MANIFEST, OutputDir, OutputError
-from .._support.progress import Progress
-from ..study import STEPS, StudyResults, run_study
+from .._support.outputs import MANIFEST, OutputError
+from .._support.report import build_report, write_tables
+from .study import STEPS, StudyResults, run_study
 from .figures import FIGURES, write_figures
 from .html import render_index
 from .tables import all_tables
@@ -44,9 +44,7 @@ def _write_all(res: StudyResults, tmp: Path, step: Callable[[str, int], None]) -
 
     step("tables (CSV and Markdown)", 1)
     tables = all_tables(res)
-    for t in tables:
-        (tmp / f"{t.stem}.csv").write_text(t.to_csv(), encoding="utf-8")
-        (tmp / f"{t.stem}.md").write_text(t.to_markdown(), encoding="utf-8")
+    write_tables(tables, tmp)
     write_figures(res, tmp, tick=lambda name: step(f"figure {name} done", 1))
     step("index.html", 1)
     (tmp / "index.html").write_text(render_index(res, tables, __version__), encoding="utf-8")
@@ -66,14 +64,9 @@ def reproduce(out: str | os.PathLike = DEFAULT_OUT, *, force: bool = False,
     other files with the report's names, or when it cannot be written; nothing is left
     behind in that case.  Returns the report directory.
     """
-    out_dir = OutputDir(out, "reproduce", force, expected=report_files())
-    with out_dir:
-        total = sum(w for _, w in STEPS) + len(FIGURES) + 2
-        bar = Progress(total, stream=progress, log="viscontact reproduce",
-                       bar_format="{desc:<44} {bar} {n_fmt}/{total_fmt} [{elapsed}]")
-        step = bar.step
-        weights = dict(STEPS)
-        res = run_study(lambda name: step(name, weights[name]))
-        _write_all(res, out_dir.staging, step)
-        bar.close("done")
-    return Path(out)
+    weights = dict(STEPS)
+    return build_report(
+        out, "reproduce", force=force, expected=report_files(),
+        compute=lambda step: run_study(lambda name: step(name, weights[name])),
+        write=_write_all, progress=progress, total=sum(weights.values()) + len(FIGURES) + 2,
+        bar_format="{desc:<44} {bar} {n_fmt}/{total_fmt} [{elapsed}]")

@@ -27,7 +27,7 @@ import sys
 import tempfile
 from dataclasses import asdict, dataclass
 
-HERE = os.path.dirname(os.path.abspath(__file__))
+HERE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests")  # its data and engine scripts
 RECORDED = os.path.join(HERE, "data", "engine_runs.json")
 
 #: sphere materials: radius [m], density [kg/m^3], Young's modulus [Pa], Poisson ratio
