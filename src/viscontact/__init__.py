@@ -18,7 +18,9 @@ from .calibration.inverse import ALPHA_MAX, alpha_from_e, restitution
 from .collision import (
     CollisionResult, ImpactResult, SweepResult, collide, impact, velocity_sweep,
 )
-from .paper.experiment import Ball, PhysicalCalibration, calibrate_ball, calibrate_physical, load_balls
+from .paper.experiment import (
+    Ball, PhysicalCalibration, calibrate_ball, calibrate_physical, load_balls,
+)
 from .physics.laws import LAWS, MODELS, STUDY_MODELS, ContactLaw
 from .physics.pair import (
     ContactPair, contact_pair, damping_coefficient, damping_constants, drop_speed,

@@ -43,7 +43,8 @@ ALPHA_REF = 0.3
 BETA_REF = 0.5
 #: e at alpha = 0.3 as published (zero-force end; Jian with beta = 0.5), Jian et al. 2019
 PUBLISHED_E: dict[str, float] = {
-    LH.name: 0.6207, Ts.name: 0.6778, KK.name: 0.7221, Li.name: 0.7890, Hunt.name: 0.8329, Jian.name: 0.7622,
+    LH.name: 0.6207, Ts.name: 0.6778, KK.name: 0.7221, Li.name: 0.7890, Hunt.name: 0.8329,
+    Jian.name: 0.7622,
 }
 #: Figs. 3-5: the alpha values drawn for each law
 SERIES_ALPHAS: tuple[float, ...] = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)
