@@ -1,5 +1,5 @@
 """Calibration: the inverse of the collision, alpha from a target restitution e, and back
-(layer 3: may import physics, solvers, collision and _support).
+(imports physics, solvers, collision and _support).
 
 :mod:`.inverse` holds the public functions (:func:`restitution`, :func:`alpha_from_e`); they
 answer through precomputed interpolants of e(alpha) (and e(alpha, beta) for Jian): the table

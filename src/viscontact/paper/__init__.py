@@ -1,5 +1,5 @@
-"""The seed study: Jian et al., Powder Technol. 356 (2019) 735, recomputed (layer 4: may import
-physics, solvers, collision, calibration and _support).
+"""The seed study: Jian et al., Powder Technol. 356 (2019) 735, recomputed (imports physics,
+solvers, collision, calibration and _support).
 
 :mod:`.experiment`: the drop tests of lacrosse balls (the published measurements, calibrated
 to each law); :mod:`.study`: every number behind the paper's tables and figures, computed once;

@@ -1,4 +1,5 @@
-"""The physics of one viscoelastic contact (layer 0: imports nothing else of viscontact).
+"""The physics of one viscoelastic contact (the bottom layer with
+_support: imports nothing else of viscontact).
 
 What it owns: the laws (:mod:`.laws`, the one registry: name, exponent p, parameters, history
 each law needs), the force arithmetic (:mod:`.kernels`, compiled by numba, and

@@ -1,4 +1,5 @@
-"""Collision solvers behind one contract (layer 2: may import ``physics`` only).
+"""Collision solvers behind one contract (imports physics and
+_support only).
 
 A solver is a function ``solve(lp, alpha, end, *, rtol, detail) -> Contact`` (see
 :mod:`viscontact.solvers.base`).  Solvers know nothing about law names: they receive the
