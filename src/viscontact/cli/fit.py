@@ -14,7 +14,7 @@ import numpy as np
 
 from .._support import outputs
 from .._support.progress import Progress
-from ..physics.pair import HERTZ_TC, check_positive, drop_speed
+from ..physics.pair import HERTZ_TC, check_positive, drop_speed, time_scale
 from ..fit.fitting import FIT_LAWS, GlobalFit, LawFit, Weights, fit_global, fit_laws
 from ..fit.recording import (FORCE_UNITS, TIME_UNITS, Measured, RecordingError,
                              measure, read_recording)
@@ -223,7 +223,10 @@ def _implausible(m: Measured) -> list[str]:
         bad.append(f"e = {m.e:.4g} > 1")
     if m.residual < -_SLACK * m.dmax:
         bad.append(f"a negative residual overlap ({m.residual * 1e3:.4g} mm)")
-    ratio = m.tc / (m.mass ** 2 / (m.k_hertz ** 2 * m.v)) ** 0.2 if m.k_hertz > 0 else math.inf
+    try:
+        ratio = m.tc / time_scale(m.mass, m.k_hertz, m.v)
+    except ValueError:  # k_Hertz <= 0 or outside any physical range: implausible in any case
+        ratio = math.inf
     if not _TC_BAND[0] <= ratio <= _TC_BAND[1]:
         bad.append(f"t_c = {m.tc * 1e3:.4g} ms, {ratio / HERTZ_TC:.3g} times the Hertz contact "
                    "time of the k_Hertz measured")
