@@ -7,12 +7,13 @@ import importlib.util
 import io
 import json
 import math
+import threading
 import time
 
 import numpy as np
 import pytest
 
-from viscontact.demstudy import bounce, gas, theory
+from viscontact.demstudy import bounce, gas, jobs, theory
 from viscontact.demstudy.engine import LawSpec
 from viscontact.demstudy.report import QUICK, report_files
 from viscontact.outputs import MANIFEST
@@ -45,16 +46,19 @@ def isolated_drops(tmp_path_factory):
     cals = calibrate_ball(b)
     tc0 = hertz_limit(b.mass, b.k_hertz, b.v_in)[0]
     dt = tc0 / 1000
-    out = {}
-    for m, cal in cals.items():
+    def one(m):
+        cal = cals[m]
         law = LawSpec(m, b.e, b.v_in, cal.beta)
         ex = theory.bounce_sequence(m, m=b.mass, k_hertz=b.k_hertz, c=cal.c, tau=cal.tau,
                                     height=bounce.DROP_HEIGHT, h_min=bounce.H_MIN)
         t_max = min(ex.t_rest + 0.05, 1.2)
-        dem = bounce.run_drop(b, law, work / m, gic=0, dt=dt, t_max=t_max)
-        grav = bounce.run_drop(b, law, work / f"{m}-g", gic=1, dt=dt, t_max=0.5)
-        out[m] = (ex, dem, grav, cal)
-    return out
+        dem, grav = jobs.pmap(lambda g: bounce.run_drop(
+            b, law, work / (m + ("-g" if g else "")), gic=g, dt=dt, t_max=t_max if g == 0 else 0.5),
+            (0, 1))
+        return ex, dem, grav, cal
+
+    with jobs.concurrent(jobs.default_jobs()):  # the 12 runs at the same time, on every core
+        return dict(zip(cals, jobs.pmap(one, list(cals))))
 
 
 @pytest.mark.parametrize("model", ["LH", "Ts", "KK", "Li", "Hunt", "Jian"])
@@ -141,15 +145,12 @@ def test_parse_crossings_reads_a_parabola(tmp_path):
 
 
 # ------------------------------------------------------------------- the quick report
-@pytest.fixture(scope="module")
-def dem_report(tmp_path_factory):
-    """One ``viscontact dem-study --quick`` run: (report directory, seconds, process)."""
+@pytest.fixture(scope="session")
+def dem_report(quick_dem_study):
+    """The session's one ``viscontact dem-study --quick`` run (conftest), here where LAMMPS
+    and the plugin are there."""
     _plugin_or_skip()
-    base = tmp_path_factory.mktemp("dem-study")
-    t0 = time.perf_counter()
-    proc = run_cli("dem-study", "--quick", "--out", base / "rep", cwd=base, timeout=1800)
-    assert proc.returncode == 0, proc.stderr
-    return base / "rep", time.perf_counter() - t0, proc
+    return quick_dem_study()
 
 
 def _csv(path):
@@ -391,3 +392,81 @@ def test_native_stand_in_lines_carry_the_calibrated_damping(model):
         k = 4.0 / 3.0 * E / (2.0 * (1.0 - nu ** 2)) * r ** 0.5
         c0 = alpha * m ** 0.4 * v ** -0.2 * k ** 0.6
         assert coef * m * r ** 0.5 == pytest.approx(c0, rel=1e-10)
+
+
+# ------------------------------------------------------------- runs at the same time
+def test_concurrent_runs_keep_order_bound_and_priority():
+    # pmap returns the results in the order of the items whatever order they finish in; at
+    # most `jobs` slots are held at once; a freed slot goes to the lowest priority waiting
+
+    held, peak, order = [0], [0], []
+    lock = threading.Lock()
+
+    def run(x):
+        with jobs.slot():
+            with lock:
+                held[0] += 1
+                peak[0] = max(peak[0], held[0])
+                order.append(x)
+            time.sleep(0.05 * (x % 3))
+            with lock:
+                held[0] -= 1
+        return x * x
+
+    with jobs.concurrent(2):
+        assert jobs.pmap(run, range(8)) == [x * x for x in range(8)]
+        assert peak[0] == 2
+        # two branches: the one asking with priority 0 gets every slot before priority 5
+        order.clear()
+        gate = threading.Event()
+
+        def blocker():
+            with jobs.slot():
+                gate.wait(5)
+
+        hold = threading.Thread(target=lambda: jobs.pmap(lambda _: blocker(), range(2)))
+        hold.start()
+        time.sleep(0.3)  # both slots held: the branches below queue
+        late = jobs.first(5, lambda: jobs.pmap(run, [100, 101]))
+        early = jobs.first(0, lambda: (time.sleep(0.2), jobs.pmap(run, [0, 1]))[1])
+        t = threading.Thread(target=lambda: jobs.run_each(late, early))
+        t.start()
+        time.sleep(0.6)
+        gate.set()
+        t.join(10)
+        hold.join(10)
+        assert sorted(order[:2]) == [0, 1] and sorted(order[2:]) == [100, 101]
+    assert jobs.pmap(run, [3, 4]) == [9, 16]  # outside concurrent: one after the other
+
+
+def test_a_failing_run_stops_the_others():
+    # the first error is raised (not the Cancelled of the runs it stopped), and only once
+    # every other run has ended; a run waiting for a slot never starts
+
+    started, ended = [], []
+
+    def run(x):
+        with jobs.slot():
+            started.append(x)
+            if x == 1:
+                time.sleep(0.2)
+                raise RuntimeError("run 1 failed")
+            while not jobs.cancelled():  # a long LAMMPS run polling, as run_lammps does
+                time.sleep(0.05)
+            ended.append(x)
+            raise jobs.Cancelled()
+
+    t0 = time.monotonic()
+    with jobs.concurrent(2), pytest.raises(RuntimeError, match="run 1 failed"):
+        jobs.pmap(run, [0, 1, 2, 3])
+    assert time.monotonic() - t0 < 5
+    assert sorted(started) == [0, 1] and ended == [0]
+    assert not jobs.cancelled()  # the next study starts afresh
+
+
+@pytest.mark.parametrize("value", ["0", "257", "two", "1.5"])
+def test_jobs_option_one_line(value, tmp_path):
+    proc = run_cli("dem-study", "--quick", "--jobs", value, "--out", tmp_path / "r")
+    assert proc.returncode == 2 and "--jobs" in proc.stderr
+    assert len(proc.stderr.splitlines()) == 1
+    assert not (tmp_path / "r").exists()

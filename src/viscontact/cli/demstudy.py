@@ -20,7 +20,7 @@ def _dem_study(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     try:
         out = dem_study(args.out, quick=args.quick, np_=args.np, force=args.force,
-                        progress=None if args.quiet else sys.stderr)
+                        progress=None if args.quiet else sys.stderr, jobs=args.jobs)
     except LammpsError as exc:  # no plugin, no LAMMPS, or LAMMPS stopped: one line
         raise UserError(str(exc).splitlines()[0] if str(exc) else "LAMMPS failed") from None
     if not args.quiet:
@@ -44,6 +44,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--np", type=int, default=1, metavar="N",
                    help=f"MPI ranks for the gas and the collapse (mpirun -np N on this machine), "
                    f"a whole number in [1, {NP_MAX}] (default 1)")
+    p.add_argument("--jobs", type=int, default=None, metavar="J",
+                   help=f"independent LAMMPS runs at a time (the laws, seeds, aspect ratios and "
+                   f"parts of the study), a whole number in [1, {NP_MAX}] (default: the cores "
+                   f"this process may use divided by --np; the report is the same for any J)")
     p.add_argument("--quick", action="store_true",
                    help="small systems and short runs (a few minutes on two cores)")
     add_force_option(p, "the report in DIR (only its own, unchanged files)")

@@ -27,9 +27,9 @@ from pathlib import Path
 import numpy as np
 
 from ..dimensional import STANDARD_GRAVITY, hertz_limit
-from ..experiment import Ball, calibrate_ball, load_balls
+from ..experiment import Ball, PhysicalCalibration, calibrate_ball, load_balls
 from ..laws import STUDY_MODELS
-from . import theory
+from . import jobs, theory
 from .engine import LawSpec, Material, Wall, coeff_text, read_dump, run_lammps
 
 __all__ = ["DROP_HEIGHT", "NU", "H_MIN", "GRAVITY_SMALL", "DemBounces", "BounceCase", "ball_material",
@@ -145,8 +145,10 @@ def parse_crossings(path: Path, *, radius: float, dt: float, g: float, h_min: fl
 
 def run_drop(b: Ball, law: LawSpec, workdir: Path, *, gic: int, dt: float, t_max: float,
              g: float = STANDARD_GRAVITY, h_min: float = H_MIN, np_: int = 1,
-             tick: Callable[[float], None] | None = None) -> DemBounces:
-    """One DEM drop of ball ``b`` with ``law`` (see ``inputs/bounce.in``)."""
+             tick: Callable[[float], None] | None = None,
+             start: Callable[[], None] | None = None) -> DemBounces:
+    """One DEM drop of ball ``b`` with ``law`` (see ``inputs/bounce.in``); ``tick`` and
+    ``start`` as for :func:`~viscontact.demstudy.engine.run_lammps`."""
     workdir.mkdir(parents=True, exist_ok=True)
     mat = ball_material(b)
     (workdir / "coeffs.lmp").write_text(coeff_text(
@@ -154,7 +156,7 @@ def run_drop(b: Ball, law: LawSpec, workdir: Path, *, gic: int, dt: float, t_max
     run_lammps("bounce.in", workdir, {
         "coeffs": "coeffs.lmp", "radius": b.radius, "mass": b.mass, "height": DROP_HEIGHT,
         "dt": dt, "tmax": t_max, "g": g, "gic": gic, "kh": b.k_hertz, "hrest": h_min * 1e-2,
-        "crossings": "crossings.txt"}, np_=1, tick=tick)
+        "crossings": "crossings.txt"}, np_=1, tick=tick, start=start)
     return parse_crossings(workdir / "crossings.txt", radius=b.radius, dt=dt, g=g, h_min=h_min)
 
 
@@ -191,37 +193,41 @@ def run_bounces(workdir: Path, *, balls: tuple[str, ...] = ("ILB", "OLB"),
     DEM with gravity only in flight.  dt = t_c(elastic, 171.6 cm/s) / steps_per_contact."""
     from ..dimensional import impact
 
-    out = []
+    def one(item: tuple[Ball, float, str, PhysicalCalibration]) -> BounceCase:
+        """One ball with one law: the exact sequence and its two DEM drops (concurrently)."""
+        b, dt, m, cal = item
+        key = b.key
+        law = LawSpec(m, b.e, b.v_in, cal.beta)
+        ex = theory.bounce_sequence(m, m=b.mass, k_hertz=b.k_hertz, c=cal.c, tau=cal.tau,
+                                    height=DROP_HEIGHT, h_min=h_min)
+        t_max = min(ex.t_rest + 0.2, t_cap)
+
+        def drop(gic: int) -> DemBounces:
+            what, sub = (("DEM with gravity", "") if gic else
+                         ("DEM, gravity only in flight", "-isolated"))
+            return run_drop(b, law, workdir / f"bounce-{key}-{m}{sub}", gic=gic, dt=dt,
+                            t_max=t_max, h_min=h_min,
+                            start=(lambda: step(f"bounce {key} {m}: {what}")) if step else None)
+
+        dem, iso = jobs.pmap(drop, (1, 0)) if check else (drop(1), None)
+
+        def exact_at(run: DemBounces | None) -> tuple[list[float], list[float]]:
+            # the exact single collision at each impact speed the DEM run saw: (e, t_c)
+            if run is None:
+                return [], []
+            res = [impact(m, m_eff=b.mass, k_hertz=b.k_hertz, v=float(v), c=cal.c,
+                          tau=cal.tau, history=False) if math.isfinite(e) else None
+                   for v, e in zip(run.v_in, run.e)]
+            return ([math.nan if r is None else r.e for r in res],
+                    [math.nan if r is None else r.tc for r in res])
+
+        e_dem, tc_dem = exact_at(dem)
+        return BounceCase(key, m, law, ex, dem, iso, e_dem, exact_at(iso)[0], dt, tc_dem)
+
+    items = []
     for key in balls:
         b = load_balls()[key]
         cals = calibrate_ball(b, models)
-        tc0 = hertz_limit(b.mass, b.k_hertz, b.v_in)[0]
-        dt = tc0 / steps_per_contact
-        for m, cal in cals.items():
-            law = LawSpec(m, b.e, b.v_in, cal.beta)
-            ex = theory.bounce_sequence(m, m=b.mass, k_hertz=b.k_hertz, c=cal.c, tau=cal.tau,
-                                        height=DROP_HEIGHT, h_min=h_min)
-            t_max = min(ex.t_rest + 0.2, t_cap)
-            if step:
-                step(f"bounce {key} {m}: DEM with gravity")
-            dem = run_drop(b, law, workdir / f"bounce-{key}-{m}", gic=1, dt=dt, t_max=t_max,
-                           h_min=h_min)
-            iso = None
-            if check:
-                if step:
-                    step(f"bounce {key} {m}: DEM, gravity only in flight")
-                iso = run_drop(b, law, workdir / f"bounce-{key}-{m}-isolated", gic=0, dt=dt,
-                               t_max=t_max, h_min=h_min)
-            def exact_at(run: DemBounces | None) -> tuple[list[float], list[float]]:
-                # the exact single collision at each impact speed the DEM run saw: (e, t_c)
-                if run is None:
-                    return [], []
-                res = [impact(m, m_eff=b.mass, k_hertz=b.k_hertz, v=float(v), c=cal.c,
-                              tau=cal.tau, history=False) if math.isfinite(e) else None
-                       for v, e in zip(run.v_in, run.e)]
-                return ([math.nan if r is None else r.e for r in res],
-                        [math.nan if r is None else r.tc for r in res])
-
-            e_dem, tc_dem = exact_at(dem)
-            out.append(BounceCase(key, m, law, ex, dem, iso, e_dem, exact_at(iso)[0], dt, tc_dem))
-    return out
+        dt = hertz_limit(b.mass, b.k_hertz, b.v_in)[0] / steps_per_contact
+        items += [(b, dt, m, cal) for m, cal in cals.items()]
+    return jobs.pmap(one, items)

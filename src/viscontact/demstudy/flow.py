@@ -29,6 +29,7 @@ import numpy as np
 
 from ..dimensional import STANDARD_GRAVITY, hertz_limit
 from ..laws import STUDY_MODELS
+from . import jobs
 from .engine import LawSpec, Material, Wall, coeff_text, read_dump, read_thermo, run_lammps
 
 __all__ = ["FlowSetup", "QUICK_FLOW", "FULL_FLOW", "CollapseRun", "FlowStudy", "LawDifference",
@@ -286,66 +287,79 @@ def run_flow(workdir: Path, setup: FlowSetup = QUICK_FLOW, *,
     W = s.W_d * d0
     mat = s.material
     m_eff, r_eff = s.mass0 / 2.0, d0 / 4.0
-    runs: list[CollapseRun] = []
-    n_part = 0
-    e_grain: dict[str, float] = {}
-    for aspect in s.aspects:
+
+    def column(item: tuple[float, int]) -> list[tuple[CollapseRun, int]]:
+        """Build one column (aspect ratio, seed) and collapse it with every law there:
+        [(run, grains)]."""
+        aspect, seed = item
         L0, H0 = s.column(aspect)
         xmax = L0 + 4.0 * (H0 + d0) + 4.0 * L0
         vref = s.vref(aspect)
         dt = s.dt(aspect)
         settle_law = LawSpec("Ts", s.e, vref)
-        for seed in s.seeds:
-            wd = workdir / f"column-a{aspect:g}-{seed}"
-            wd.mkdir(parents=True, exist_ok=True)
-            if step:
-                step(f"flow: building the column a = {aspect:g} (seed {seed})")
-            (wd / "coeffs-settle.lmp").write_text(coeff_text(
-                settle_law, mat,
-                [Wall("floor", "zplane 0.0 NULL"), Wall("gate", f"xplane 0.0 {L0!r}")],
+        wd = workdir / f"column-a{aspect:g}-{seed}"
+        wd.mkdir(parents=True, exist_ok=True)
+        (wd / "coeffs-settle.lmp").write_text(coeff_text(
+            settle_law, mat,
+            [Wall("floor", "zplane 0.0 NULL"), Wall("gate", f"xplane 0.0 {L0!r}")],
+            m_eff=m_eff, r_eff=r_eff))
+        run_lammps("collapse_prepare.in", wd, {
+            "d0": d0, "rho": s.rho, "L0": L0, "H0": H0 + FLOOR_TOP_D * d0, "W": W,
+            "xmax": xmax, "seed": seed, "dt": dt, "g": s.g,
+            "coeffs": "coeffs-settle.lmp", "tsettle": s.t_settle, "data": "column.data"},
+            np_=np_, log="log-prepare.lammps", start=(lambda: step(
+                f"flow: building the column a = {aspect:g} (seed {seed})")) if step else None)
+
+        def collapse(m: str) -> tuple[CollapseRun, int]:
+            law = LawSpec(m, s.e, vref, s.beta if m == "Jian" else None)
+            d = wd / f"collapse-{m}"
+            d.mkdir(exist_ok=True)
+            (d / "column.data").write_bytes((wd / "column.data").read_bytes())
+            (d / "coeffs.lmp").write_text(coeff_text(
+                law, mat, [Wall("floor", "zplane 0.0 NULL"), Wall("back", "xplane 0.0 NULL")],
                 m_eff=m_eff, r_eff=r_eff))
-            run_lammps("collapse_prepare.in", wd, {
-                "d0": d0, "rho": s.rho, "L0": L0, "H0": H0 + FLOOR_TOP_D * d0, "W": W,
-                "xmax": xmax, "seed": seed, "dt": dt, "g": s.g,
-                "coeffs": "coeffs-settle.lmp", "tsettle": s.t_settle, "data": "column.data"},
-                np_=np_, log="log-prepare.lammps")
-            for m in s.models_at(aspect, models):
+            nthermo = max(1, int(round(s.sample_dt / dt)))
+            ndump = nthermo * max(1, int(round(0.05 / s.sample_dt)))
+            kestop = 1e-4 * s.mass0 * s.g * d0  # J per sphere
+            t1 = [time.perf_counter()]
+
+            def started() -> None:  # the wall time counts from the start of LAMMPS
+                t1[0] = time.perf_counter()
                 if step:
                     step(f"flow: collapse a = {aspect:g} with {m} (seed {seed})")
-                law = LawSpec(m, s.e, vref, s.beta if m == "Jian" else None)
-                if aspect == s.compare and m not in e_grain:
-                    e_grain[m] = _e_at(law, s, s.v_grain)
-                d = wd / f"collapse-{m}"
-                d.mkdir(exist_ok=True)
-                (d / "column.data").write_bytes((wd / "column.data").read_bytes())
-                (d / "coeffs.lmp").write_text(coeff_text(
-                    law, mat, [Wall("floor", "zplane 0.0 NULL"), Wall("back", "xplane 0.0 NULL")],
-                    m_eff=m_eff, r_eff=r_eff))
-                nthermo = max(1, int(round(s.sample_dt / dt)))
-                ndump = nthermo * max(1, int(round(0.05 / s.sample_dt)))
-                kestop = 1e-4 * s.mass0 * s.g * d0  # J per sphere
-                t1 = time.perf_counter()
-                log = run_lammps("collapse.in", d, {
-                    "data": "column.data", "coeffs": "coeffs.lmp", "g": s.g, "dt": dt,
-                    "tmin": 0.1, "tmax": s.t_max, "kestop": kestop,
-                    "nthermo": nthermo, "ndump": ndump, "dump": f"collapse-{m}.dump"},
-                    np_=np_)
-                wall = time.perf_counter() - t1
-                th = read_thermo(log)
-                frames = read_dump(d / f"collapse-{m}.dump")
-                first, last = frames[0].columns, frames[-1].columns
-                grains = first["type"] == 1
-                n_part = int(grains.sum())
-                H0_m = float(np.percentile((first["z"] + first["radius"])[grains], 99.0)
-                             ) - FLOOR_TOP_D * d0
-                ro, ang, hf = runout_and_slope(last, L0, d0)
-                mass = float(np.sum(s.rho * math.pi / 6.0 * (2.0 * first["radius"][grains]) ** 3))
-                v_peak = math.sqrt(2.0 * float(np.max(th["c_ke"])) / mass)
-                t_rest = rest_time(th["Time"], th["c_ke"], kestop * n_part, 0.1)
-                runs.append(CollapseRun(
-                    m, seed, L0, H0_m, ro, ang, t_rest, d / f"collapse-{m}.dump", aspect=aspect,
-                    height=hf, vref=vref, v_peak=v_peak, final=last, wall_s=wall,
-                    steps=int(th["Step"][-1])))
+
+            log = run_lammps("collapse.in", d, {
+                "data": "column.data", "coeffs": "coeffs.lmp", "g": s.g, "dt": dt,
+                "tmin": 0.1, "tmax": s.t_max, "kestop": kestop,
+                "nthermo": nthermo, "ndump": ndump, "dump": f"collapse-{m}.dump"},
+                np_=np_, start=started)
+            wall = time.perf_counter() - t1[0]
+            th = read_thermo(log)
+            frames = read_dump(d / f"collapse-{m}.dump")
+            first, last = frames[0].columns, frames[-1].columns
+            grains = first["type"] == 1
+            n_grains = int(grains.sum())
+            H0_m = float(np.percentile((first["z"] + first["radius"])[grains], 99.0)
+                         ) - FLOOR_TOP_D * d0
+            ro, ang, hf = runout_and_slope(last, L0, d0)
+            mass = float(np.sum(s.rho * math.pi / 6.0 * (2.0 * first["radius"][grains]) ** 3))
+            v_peak = math.sqrt(2.0 * float(np.max(th["c_ke"])) / mass)
+            t_rest = rest_time(th["Time"], th["c_ke"], kestop * n_grains, 0.1)
+            return CollapseRun(
+                m, seed, L0, H0_m, ro, ang, t_rest, d / f"collapse-{m}.dump", aspect=aspect,
+                height=hf, vref=vref, v_peak=v_peak, final=last, wall_s=wall,
+                steps=int(th["Step"][-1])), n_grains
+
+        return jobs.pmap(collapse, s.models_at(aspect, models))
+
+    done = [x for col in jobs.pmap(column, [(a, seed) for a in s.aspects for seed in s.seeds])
+            for x in col]
+    runs = [r for r, _ in done]
+    n_part = done[-1][1] if done else 0  # grains of the last run
+    # each law's e at the grain speed scale sqrt(g d0), calibrated as at the compared column
+    e_grain = {m: _e_at(LawSpec(m, s.e, s.vref(s.compare), s.beta if m == "Jian" else None),
+                        s, s.v_grain)
+               for m in dict.fromkeys(r.model for r in runs if r.aspect == s.compare)}
     cmp_runs = [r for r in runs if r.aspect == s.compare]
     v_peak = float(np.mean([r.v_peak for r in cmp_runs])) if cmp_runs else math.nan
     e_peak = {m: _e_at(LawSpec(m, s.e, s.vref(s.compare), s.beta if m == "Jian" else None), s,

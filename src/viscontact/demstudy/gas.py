@@ -37,7 +37,7 @@ import numpy as np
 
 from ..dimensional import hertz_limit
 from ..laws import STUDY_MODELS
-from . import theory
+from . import jobs, theory
 from .engine import (
     LawSpec, Material, coeff_text, read_dump, read_thermo, run_lammps, sim_time_ticker,
 )
@@ -372,13 +372,15 @@ def haff_deviation(t: np.ndarray, T: np.ndarray, T0: float, tau0: float, window:
     return mids / tau0, dev
 
 
-def _prepare(workdir: Path, s: GasSetup, np_: int) -> tuple[int, float]:
-    """Thermalise the elastic gas into ``workdir/gas-start.data``; (steps, its density var)."""
+def _prepare(workdir: Path, s: GasSetup, np_: int, start: Callable[[], None] | None = None
+             ) -> tuple[int, float]:
+    """Thermalise the elastic gas into ``workdir/gas-start.data``; (steps, its density var).
+    ``start``: see :func:`~viscontact.demstudy.engine.run_lammps`."""
     mat = s.material
     (workdir / "coeffs-elastic.lmp").write_text(
         coeff_text(LawSpec("LH", 1.0, s.vref), mat, m_eff=s.mass / 2.0, r_eff=s.sigma / 4.0))
     pv = s.prepare_variables("coeffs-elastic.lmp", "gas-start.data")
-    run_lammps("gas_prepare.in", workdir, pv, np_=np_, log="log-prepare.lammps")
+    run_lammps("gas_prepare.in", workdir, pv, np_=np_, log="log-prepare.lammps", start=start)
     start = _read_data_xv(workdir / "gas-start.data", s.n)
     dens0, _ = homogeneity(start[0], start[1], s.box, _cells(s))
     return int(pv["nequil"]), dens0
@@ -397,12 +399,19 @@ def _cool(workdir: Path, s: GasSetup, model: str, np_: int,
                                              r_eff=s.sigma / 4.0))
     (d / "gas-start.data").write_bytes((workdir / "gas-start.data").read_bytes())
     tau0 = s.tau0()
-    t1 = time.perf_counter()
     tick = sim_time_ticker(d / "log.lammps", s.t_end_tau0 * tau0, tau0, f"{label} (t in tau0)",
                            step)
+    t1 = [time.perf_counter()]
+
+    def started() -> None:  # the wall time counts from the start of LAMMPS, not of a wait
+        t1[0] = time.perf_counter()
+        if step:
+            step(label)
+
     log = run_lammps("gas_cool.in", d, s.cool_variables("coeffs.lmp", "gas-start.data",
-                                                         f"gas-{model}.dump"), np_=np_, tick=tick)
-    wall = time.perf_counter() - t1
+                                                         f"gas-{model}.dump"), np_=np_, tick=tick,
+                     start=started)
+    wall = time.perf_counter() - t1[0]
     th = read_thermo(log)
     t, keep = np.unique(th["Time"], return_index=True)  # a segment's first line repeats the last
     run = GasRun(model, law, t, th["v_Tg"][keep], d / f"gas-{model}.dump", wall_s=wall,
@@ -414,19 +423,21 @@ def run_haff(workdir: Path, setup: GasSetup, check: HaffCheck, *, np_: int = 1,
              step: Callable[[str], None] | None = None) -> tuple[np.ndarray, np.ndarray, float]:
     """Run the realisations of ``check``: (block centres / tau0, deviations realisation x
     block, particle-steps)."""
-    devs, mids, steps = [], np.empty(0), 0.0
-    for k in range(check.realisations):
+    def one(k: int) -> tuple[np.ndarray, np.ndarray, float]:
         s = check.setup(setup, k)
         d = workdir / f"haff-{k + 1}"
         d.mkdir(parents=True, exist_ok=True)
-        if step:
-            step(f"gas: Haff's law, realisation {k + 1} of {check.realisations}")
-        nequil, _ = _prepare(d, s, np_)
-        run, _ = _cool(d, s, "Ts", np_, step,
-                       f"gas: Haff's law, realisation {k + 1} of {check.realisations}")
+        label = f"gas: Haff's law, realisation {k + 1} of {check.realisations}"
+        nequil, _ = _prepare(d, s, np_, start=(lambda: step(f"{label}: elastic thermalisation"))
+                             if step else None)
+        run, _ = _cool(d, s, "Ts", np_, step, label)
         mids, dev = haff_deviation(run.t, run.T, s.T0, s.tau0(), check.window)
-        devs.append(dev)
-        steps += float(nequil + run.steps) * s.n
+        return mids, dev, float(nequil + run.steps) * s.n
+
+    done = jobs.pmap(one, range(check.realisations))
+    devs = [dev for _, dev, _ in done]
+    mids = done[-1][0] if done else np.empty(0)
+    steps = sum(st for _, _, st in done)
     width = min(len(d) for d in devs)
     return mids[:width], np.array([d[:width] for d in devs]), steps
 
@@ -439,16 +450,11 @@ def run_gas(workdir: Path, setup: GasSetup = QUICK_GAS, *, models: tuple[str, ..
     Haff's check (Ts)."""
     workdir.mkdir(parents=True, exist_ok=True)
     s = setup
-    if step:
-        step(f"gas: {s.n} spheres, elastic thermalisation")
-    steps_total, dens0 = _prepare(workdir, s, np_)
     cells = _cells(s)
-    runs = {}
-    for m in models:
-        if step:
-            step(f"gas: cooling with {m}")
+
+    def cool(m: str) -> GasRun:
+        """Cool the prepared gas with law ``m``; T(t), the dumps and the theory of its e(v)."""
         run, th = _cool(workdir, s, m, np_, step, f"gas: cooling with {m}")
-        steps_total += run.steps
         frames = read_dump(run.dump)
         run.dump_t = _step_times(th, np.array([f.step for f in frames]))
         dn_, fr_, a2_ = [], [], []
@@ -477,14 +483,25 @@ def run_gas(workdir: Path, setup: GasSetup = QUICK_GAS, *, models: tuple[str, ..
         run.fit_from = late_window(float(run.t[-1]))
         run.slope, run.slope_err = theory.log_slope(run.t, run.T, run.fit_from)
         run.slope_theory, _ = theory.log_slope(run.t, run.T_theory, run.fit_from)
-        runs[m] = run
+        return run
+
+    def laws() -> tuple[int, float, dict[str, GasRun]]:
+        steps, dens0 = _prepare(workdir, s, np_, start=(
+            lambda: step(f"gas: {s.n} spheres, elastic thermalisation")) if step else None)
+        return steps, dens0, dict(zip(models, jobs.pmap(cool, models)))
+
+    def haff_check() -> tuple[np.ndarray, np.ndarray, float] | None:
+        return None if haff is None else run_haff(workdir, s, haff, np_=np_, step=step)
+
+    (steps_total, dens0, runs), haff_res = jobs.run_each(laws, haff_check)
+    steps_total += sum(r.steps for r in runs.values())
     n_dumps = max(len(r.dump_t) - 1 for r in runs.values())  # after t = 0
     st = GasStudy(s, runs, dens0, ideal_gas_band(s.n, cells, dumps=n_dumps),
                   particle_steps=float(steps_total) * s.n)
     st.wall_s = sum(r.wall_s for r in runs.values())
     if haff is not None:
         st.haff = haff
-        st.haff_t, st.haff_dev, hsteps = run_haff(workdir, s, haff, np_=np_, step=step)
+        st.haff_t, st.haff_dev, hsteps = haff_res
         st.particle_steps += hsteps
     return st
 

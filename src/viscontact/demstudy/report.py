@@ -16,6 +16,7 @@ import os
 import shutil
 import sys
 import tempfile
+import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -25,6 +26,7 @@ import numpy as np
 
 from ..laws import STUDY_MODELS
 from .. import domain
+from ..dem.run import stop_on_signals
 from ..outputs import OutputDir
 from ..report.html import PAGE_CSS
 from ..report.tables import Column, Table
@@ -32,6 +34,7 @@ from ..report.tables import _fixed as _f, _sig as _g, _text as _t
 from . import bounce as bounce_mod
 from . import flow as flow_mod
 from . import gas as gas_mod
+from . import jobs as jobs_mod
 from . import theory
 
 __all__ = ["dem_study", "StudyConfig", "QUICK", "FULL", "DEFAULT_OUT"]
@@ -77,11 +80,13 @@ class _Progress:
     def __init__(self, stream: TextIO | None):
         self.stream = stream
         self.t0 = time.perf_counter()
+        self.lock = threading.Lock()  # runs start in threads of their own (jobs.concurrent)
 
     def __call__(self, name: str) -> None:
         if self.stream is not None:
-            print(f"viscontact dem-study: [{time.perf_counter() - self.t0:6.1f} s] {name}",
-                  file=self.stream, flush=True)
+            with self.lock:
+                print(f"viscontact dem-study: [{time.perf_counter() - self.t0:6.1f} s] {name}",
+                      file=self.stream, flush=True)
 
 
 @dataclass
@@ -94,19 +99,30 @@ class Results:
     np_: int = 1
 
 
-def run_all(cfg: StudyConfig, work: Path, np_: int, step) -> Results:
+def run_all(cfg: StudyConfig, work: Path, np_: int, step, jobs: int = 1) -> Results:
+    """The bounces, the gas and the collapse; up to ``jobs`` LAMMPS runs at a time (each of
+    ``np_`` ranks).  ``seconds`` holds each part's wall time (they overlap when jobs > 1)."""
     res = Results(cfg, np_=np_)
-    t = time.perf_counter()
-    res.bounces = bounce_mod.run_bounces(work / "bounce", balls=cfg.balls, models=cfg.models,
-                                         step=step)
-    res.seconds["bounce"] = time.perf_counter() - t
-    t = time.perf_counter()
-    res.gas = gas_mod.run_gas(work / "gas", cfg.gas, models=cfg.models, np_=np_, step=step,
-                              haff=cfg.haff)
-    res.seconds["gas"] = time.perf_counter() - t
-    t = time.perf_counter()
-    res.flow = flow_mod.run_flow(work / "flow", cfg.flow, models=cfg.models, np_=np_, step=step)
-    res.seconds["flow"] = time.perf_counter() - t
+
+    def timed(name: str, fn):
+        def run():
+            t = time.perf_counter()
+            out = fn()
+            res.seconds[name] = time.perf_counter() - t
+            return out
+        return run
+
+    # the gas (the longest chains: thermalise, then cool) gets free slots first, the short
+    # bounce runs last, where they fill the end
+    with jobs_mod.concurrent(jobs), stop_on_signals():
+        res.bounces, res.gas, res.flow = jobs_mod.run_each(
+            jobs_mod.first(2, timed("bounce", lambda: bounce_mod.run_bounces(
+                work / "bounce", balls=cfg.balls, models=cfg.models, step=step))),
+            jobs_mod.first(0, timed("gas", lambda: gas_mod.run_gas(
+                work / "gas", cfg.gas, models=cfg.models, np_=np_, step=step, haff=cfg.haff))),
+            jobs_mod.first(1, timed("flow", lambda: flow_mod.run_flow(
+                work / "flow", cfg.flow, models=cfg.models, np_=np_, step=step))))
+    res.seconds = {k: res.seconds[k] for k in ("bounce", "gas", "flow")}
     return res
 
 
@@ -782,15 +798,20 @@ def _write_all(res: Results, tmp: Path, work: Path, step) -> list[str]:
 
 def dem_study(out: str | os.PathLike = DEFAULT_OUT, *, quick: bool = False, np_: int = 1,
               force: bool = False, progress: TextIO | None = sys.stderr,
-              config: StudyConfig | None = None) -> Path:
+              config: StudyConfig | None = None, jobs: int | None = None) -> Path:
     """Run the bouncing ball, the cooling gas and the column collapse; write the report.
 
     ``quick``: small systems and short runs (minutes); ``np_``: MPI ranks for the gas and the
-    collapse (``mpirun -np``).  Raises :class:`viscontact.outputs.OutputError` (a ValueError) when ``out`` holds
+    collapse (``mpirun -np``); ``jobs``: independent LAMMPS runs at a time (None: as many as
+    fill the cores, :func:`viscontact.demstudy.jobs.default_jobs`); the report is the same
+    for any ``jobs``.  Raises :class:`viscontact.outputs.OutputError` (a ValueError) when ``out`` holds
     an earlier report and ``force`` is False, when it holds other files with the report's
     names, or when it cannot be written; nothing is left behind in that case.
     """
     domain.check_int("--np (number of MPI ranks)", np_, 1, domain.NP_MAX)
+    if jobs is None:
+        jobs = jobs_mod.default_jobs(np_)
+    domain.check_int("--jobs (LAMMPS runs at a time)", jobs, 1, domain.NP_MAX)
     cfg = config or (QUICK if quick else FULL)
     out_dir = OutputDir(out, "dem-study", force, expected=report_files(cfg))
     from .engine import backend
@@ -800,7 +821,7 @@ def dem_study(out: str | os.PathLike = DEFAULT_OUT, *, quick: bool = False, np_:
     try:
         with out_dir:
             step = _Progress(progress)
-            res = run_all(cfg, work, np_, step)
+            res = run_all(cfg, work, np_, step, jobs)
             _write_all(res, out_dir.staging, work, step)
     finally:
         shutil.rmtree(work, ignore_errors=True)
