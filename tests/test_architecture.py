@@ -65,3 +65,18 @@ def test_law_names_are_spelled_only_in_the_registry():
 def test_the_literal_check_can_fail(tmp_path):
     bad = PACKAGE / "physics" / "laws.py"  # the registry does spell them
     assert law_literals(bad)
+
+
+def test_old_module_paths_are_the_new_modules():
+    """Code written against the flat layout keeps working: ``viscontact.laws`` is the module
+    ``viscontact.physics.laws`` itself (not a copy), as an import and as an attribute."""
+    import importlib
+
+    from viscontact._moved import MOVED
+
+    for old, new in MOVED.items():
+        assert (importlib.import_module(f"viscontact.{old}")
+                is importlib.import_module(f"viscontact.{new}")), old
+    assert viscontact.experiment is importlib.import_module("viscontact.paper.experiment")
+    with pytest.raises(AttributeError, match="no attribute 'not_there'"):
+        viscontact.not_there

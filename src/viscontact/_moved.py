@@ -10,7 +10,6 @@ nothing inside the package uses these.  The target is imported only when the old
 from __future__ import annotations
 
 import importlib
-import importlib.abc
 import importlib.util
 import sys
 from importlib.machinery import ModuleSpec
@@ -37,8 +36,9 @@ MOVED: dict[str, str] = {
 }
 
 
-class _OldPath(importlib.abc.MetaPathFinder, importlib.abc.Loader):
-    """Finds an old path and loads it as the module at the new one."""
+class _OldPath:
+    """Finds an old path and loads it as the module at the new one (a meta path finder and its
+    loader, by protocol: importlib.abc itself costs start-up)."""
 
     def find_spec(self, fullname: str, path: object = None,
                   target: ModuleType | None = None) -> ModuleSpec | None:
@@ -64,6 +64,8 @@ def attribute(name: str) -> ModuleType:
 
 
 def install() -> None:
-    """Put the finder on ``sys.meta_path`` once."""
+    """Put the finder first on ``sys.meta_path`` (once): an old path below a package that still
+    exists (``viscontact.report.tables``, with ``viscontact.report`` now ``viscontact.paper``)
+    would otherwise be found by the path finder and loaded a second time."""
     if not any(isinstance(f, _OldPath) for f in sys.meta_path):
-        sys.meta_path.append(_OldPath())
+        sys.meta_path.insert(0, _OldPath())
