@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import shutil
 import sys
+import threading
 import time
 from typing import Any, TextIO
 
@@ -33,6 +34,7 @@ class Progress:
         self.t0 = time.perf_counter()
         self._pending = 0
         self._total = total
+        self._lock = threading.Lock()  # steps may begin in threads of their own (dem-study)
         if stream is not None and stream.isatty():
             from tqdm import tqdm
 
@@ -56,38 +58,42 @@ class Progress:
     def n(self) -> int:
         return self.bar.n if self.bar is not None else 0
 
+    @n.setter
+    def n(self, value: int) -> None:
+        if self.bar is not None:
+            self.bar.n = value
+
     def step(self, name: str, weight: int = 1) -> None:
         """Step ``name`` begins: the bar moves by the weight of the step before and shows
         ``name``; off a terminal, one log line (elapsed time and ``name``)."""
-        self.update(self._pending)
-        self._pending = weight
-        self.describe(name)
-        if self.log is not None:
-            print(f"{self.log}: [{time.perf_counter() - self.t0:6.1f} s] {name}",
-                  file=self.stream, flush=True)
+        with self._lock:
+            self.update(self._pending)
+            self._pending = weight
+            self.describe(name)
+            if self.log is not None:
+                print(f"{self.log}: [{time.perf_counter() - self.t0:6.1f} s] {name}",
+                      file=self.stream, flush=True)
 
-    def describe(self, text: str) -> None:
+    def describe(self, text: str, refresh: bool = True) -> None:
         """What the bar is doing now (the bar only)."""
         if self.bar is not None:
-            self.bar.set_description_str(text)
+            self.bar.set_description_str(text, refresh=refresh)
+
+    set_description = describe  # tqdm's name: a parser of LAMMPS output drives either
+
+    def refresh(self) -> None:
+        if self.bar is not None:
+            self.bar.refresh()
 
     def update(self, n: int = 1) -> None:
         """``n`` more units done (the bar only; tqdm redraws at most every mininterval)."""
         if self.bar is not None and n:
             self.bar.update(n)
 
-    def reset(self, total: int, text: str | None = None) -> None:
+    def reset(self, total: int | None = None) -> None:
         """A fresh bar of ``total`` units (the next LAMMPS ``run``, say)."""
         if self.bar is not None:
             self.bar.reset(total=total)
-            if text is not None:
-                self.bar.set_description_str(text, refresh=False)
-
-    def complete(self) -> None:
-        """The current bar is full (a run that ended before its last thermo line)."""
-        if self.bar is not None and self.bar.total:
-            self.bar.n = self.bar.total
-            self.bar.refresh()
 
     def close(self, text: str | None = None) -> None:
         """The command is done: the bar is filled (with ``text``) and closed."""

@@ -109,12 +109,13 @@ def error_from_output(tail: list[str], returncode: int) -> str:
     return f"LAMMPS exited with status {returncode}" + (f": {last}" if last else "")
 
 
-class _ThermoProgress:
-    """Turns echoed ``run N`` lines and thermo rows into the steps of a bar (one run at a time)."""
+class _Progress:
+    """Turns echoed ``run N`` lines and thermo rows into the steps of a bar (one run at a time);
+    the bar is a :class:`~viscontact._support.progress.Progress` (tqdm's calls)."""
 
     _RUN = re.compile(r"^run\s+(\d+)\b")
 
-    def __init__(self, bar: Progress) -> None:
+    def __init__(self, bar) -> None:
         self.bar = bar
         self.runs = 0
         self.header: list[str] | None = None
@@ -127,7 +128,8 @@ class _ThermoProgress:
         m = self._RUN.match(s)
         if m and "upto" not in s.split():
             self.runs += 1
-            self.bar.reset(int(m.group(1)), f"LAMMPS run {self.runs}")
+            self.bar.reset(total=int(m.group(1)))
+            self.bar.set_description(f"LAMMPS run {self.runs}", refresh=False)
             self.start = None
             return
         if s.startswith("Per MPI rank memory allocation"):
@@ -138,7 +140,9 @@ class _ThermoProgress:
             self.step_col = self.header.index("Step") if "Step" in self.header else None
             return
         if s.startswith("Loop time of"):
-            self.bar.complete()
+            if self.bar.total:
+                self.bar.n = self.bar.total
+                self.bar.refresh()
             self.header = None
             return
         if self.header is not None and self.step_col is not None:
@@ -152,7 +156,7 @@ class _ThermoProgress:
                     self.start = step
                 ahead = step - self.start - self.bar.n
                 if ahead > 0:
-                    self.bar.update(ahead)
+                    self.bar.update(ahead)  # tqdm redraws at most every mininterval
 
 
 def _make_bar(progress: bool) -> Progress | None:
@@ -313,7 +317,7 @@ def _run(cmd: list[str], bar: Progress | None, cwd: Path, echo: Callable[[str], 
     if stdbuf:  # line-buffered screen output (the ranks inherit it), else the bar moves in bursts
         cmd = [stdbuf, "-oL", *cmd]
     tail: deque[str] = deque(maxlen=60)
-    prog = _ThermoProgress(bar) if bar is not None else None
+    prog = _Progress(bar) if bar is not None else None
     env = dict(os.environ)
     env.setdefault("OMP_NUM_THREADS", "1")
     proc = start_lammps(cmd, cwd=cwd, env=env)
