@@ -17,7 +17,7 @@ ROOT = PACKAGE.parent.parent
 #: modules allowed to spell a law's name: the registry itself
 REGISTRY = {"physics/laws.py"}
 #: not folded yet: the DEM coefficient writer (compares with the general power law's name)
-NOT_YET = ("dem/coeff.py", "demstudy/")
+NOT_YET = ("dem/coeff.py",)
 
 
 def test_import_layers_point_down():

@@ -9,49 +9,11 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-import matplotlib
-import matplotlib.cm
-import matplotlib.colors
 from matplotlib.figure import Figure
 
 from ..physics.laws import MODELS, lookup
 from .single import CollisionResult
 
-
-class _Headless:
-    """The few ``pyplot`` calls the figures use, on bare :class:`~matplotlib.figure.Figure`
-    objects: ``Figure.savefig`` renders with Agg by itself, so no backend is chosen and the
-    backend of whoever imports viscontact stays as it is (no GUI window is ever opened)."""
-
-    Normalize = matplotlib.colors.Normalize
-    cm = matplotlib.cm
-
-    @staticmethod
-    def figure(**kwargs) -> Figure:
-        return Figure(**kwargs)
-
-    @staticmethod
-    def subplots(nrows: int = 1, ncols: int = 1, **kwargs):
-        grid = ("sharex", "sharey", "squeeze", "width_ratios", "height_ratios", "subplot_kw",
-                "gridspec_kw")
-        fig = Figure(**{k: v for k, v in kwargs.items() if k not in grid})
-        return fig, fig.subplots(nrows, ncols, **{k: v for k, v in kwargs.items() if k in grid})
-
-    @staticmethod
-    def close(fig: Figure) -> None:
-        """Nothing to release: a bare Figure is not registered anywhere (pyplot's twin)."""
-
-    @staticmethod
-    def get_cmap(name: str):
-        return matplotlib.colormaps[name]
-
-    @staticmethod
-    def colorbar(mappable, ax, **kwargs):
-        return ax.figure.colorbar(mappable, ax=ax, **kwargs)
-
-
-#: Stands in for ``matplotlib.pyplot`` in the DEM study's figures (see :class:`_Headless`).
-plt = _Headless()
 
 #: One colour per law, the same in every figure (matplotlib's tab10 cycle, in registry order).
 LAW_COLORS: dict[str, str] = dict(zip(MODELS, (

@@ -11,7 +11,7 @@ from .figures import FIGURES
 from .._support.report import PAGE_CSS, Table
 from ..physics.laws import Jian
 
-__all__ = ["render_index", "PAGE_CSS"]
+__all__ = ["render_index"]
 
 def _tables_by_stem(tables: list[Table]) -> dict[str, Table]:
     return {t.stem: t for t in tables}
