@@ -19,7 +19,7 @@ import numpy as np
 
 import viscontact as vc
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))  # references.py
 from references import (  # noqa: E402
     TC_HERTZ, XMAX_HERTZ, hunt_e, taylor_reference, tsuji_force_e, tsuji_overlap_alpha,
 )

@@ -29,12 +29,12 @@ import numba
 import numpy as np
 
 import viscontact as vc
-from viscontact.laws import resolve
-from viscontact.solvers import BATCH_RTOL, solve_batch
+from viscontact.physics.laws import resolve
+from viscontact.solvers.batch import BATCH_RTOL, solve_batch
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-sys.path.insert(0, str(HERE.parent / "tests"))
+sys.path.insert(0, str(HERE.parent / "scripts"))  # references.py
 from bench_restitution import baseline_e  # noqa: E402
 from references import hunt_e, taylor_reference, tsuji_force_e  # noqa: E402
 

@@ -44,7 +44,7 @@ def main() -> None:
     os.environ["VISCONTACT_CACHE_DIR"] = cache.name  # cold cache, read when tables load
 
     import viscontact as vc
-    from viscontact import tables
+    from viscontact.calibration import tables
 
     import numba
 

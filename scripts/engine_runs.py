@@ -11,14 +11,10 @@ presets hold).  ``--table``: print the Markdown table of the recorded results (d
 
 from __future__ import annotations
 
-import os
 import sys
 import time
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, "..", "tests"))
-
-import engine_runs as R  # noqa: E402
+import engine_harness as R  # scripts/engine_harness.py, shared with tests/test_engines.py
 
 
 def table() -> str:

@@ -16,7 +16,7 @@ import argparse
 
 import numpy as np
 
-from viscontact.calibration import alpha_from_e
+from viscontact.calibration.inverse import alpha_from_e
 from viscontact.fit import Recording, fit_law, fit_laws, measure, synthetic_recording
 
 M, K, V = 0.1547, 1.688e6, 1.716

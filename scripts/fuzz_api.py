@@ -2,7 +2,7 @@
 
     python3 scripts/fuzz_api.py [--calls 5000] [--seed 1] [--heavy 0.01] [--timeout 60]
 
-Each call takes a public function (``tests/fuzz_api_targets.py``: every function of
+Each call takes a public function (``scripts/fuzz_api_targets.py``: every function of
 ``viscontact.__all__``, ``viscontact.fit`` and ``viscontact.audit``) with a valid set of
 arguments and replaces one or two of them by an unusual value (subnormal to 1e308, NaN, inf,
 wrong types, odd shapes) or a random float of random sign and magnitude.  It prints the
@@ -20,13 +20,10 @@ import signal
 import sys
 import time
 import traceback
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
-
-import fuzz_api_targets as F  # noqa: E402
+import fuzz_api_targets as F  # scripts/fuzz_api_targets.py, shared with tests/test_fuzz_api.py
 
 
 class _Hang(Exception):

@@ -12,9 +12,11 @@ import pytest
 from hypothesis import HealthCheck, settings
 
 import viscontact
-from viscontact import tables
+from viscontact.calibration import tables
 
-sys.path.insert(0, str(Path(__file__).parent))  # tests/references.py
+sys.path.insert(0, str(Path(__file__).parent))  # the tests' own helpers
+#: helpers shared with scripts/ and benchmarks/ (references.py, engine_harness.py, ...)
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scripts"))
 
 settings.register_profile(
     "viscontact", deadline=None, max_examples=25,

@@ -97,12 +97,12 @@ def _hertz_k(material: Material, r_eff: float, wall: str | tuple[float, float],
              geometry: str) -> float:
     E, nu = material.E, material.nu
     if geometry == "pair" or wall == "same":
-        e_eff = vc.dimensional.effective_modulus(E, nu, E, nu)
+        e_eff = vc.effective_modulus(E, nu, E, nu)
     elif wall == "rigid":
-        e_eff = vc.dimensional.effective_modulus(E, nu)
+        e_eff = vc.effective_modulus(E, nu)
     else:
-        e_eff = vc.dimensional.effective_modulus(E, nu, wall[0], wall[1])
-    return vc.dimensional.hertz_stiffness(e_eff, r_eff)
+        e_eff = vc.effective_modulus(E, nu, wall[0], wall[1])
+    return vc.hertz_stiffness(e_eff, r_eff)
 
 
 def effective(setup: Setup, shot: Shot) -> tuple[float, float, float]:
@@ -117,7 +117,7 @@ def effective(setup: Setup, shot: Shot) -> tuple[float, float, float]:
 
 def hertz_tc(m_eff: float, k: float, v: float) -> float:
     """Elastic Hertz contact time t_c = 3.2180654597 (m*/k)^(2/5) v^(-1/5) [s] (SPEC 9)."""
-    return vc.dimensional.hertz_limit(m_eff, k, v)[0]
+    return vc.physics.pair.hertz_limit(m_eff, k, v)[0]
 
 
 def run(setup: Setup) -> list[Measured]:
@@ -297,7 +297,7 @@ def _measure(setup: Setup, shot: Shot, idx, eff, t, X, F, V, W) -> Measured:
                     steps_in_contact=int(i1 - i0))
 
 
-def exact(setup: Setup, shot: Shot) -> vc.dimensional.ImpactResult:
+def exact(setup: Setup, shot: Shot) -> vc.ImpactResult:
     """The exact single collision (``viscontact.impact``) with this shot's m*, k_Hertz and the
     c0, tau that the law's FORM gives for them (SPEC section 3; computed here by
     ``viscontact.damping_coefficient`` / ``time_scale``, not by the plugin)."""

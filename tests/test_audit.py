@@ -16,7 +16,7 @@ import viscontact as vc
 from viscontact.audit import formulas as F
 from viscontact.audit import report
 from viscontact.audit.engines import ENGINES, PRESETS, audit_engine, get_preset
-from viscontact.dimensional import ContactPair
+from viscontact.physics.pair import ContactPair
 from viscontact.cli import main
 
 PHYS = ContactPair(m_eff=0.1547, r_eff=0.03175, k_hertz=1.688e6, v=1.716)  # SPEC ILB ball

@@ -9,8 +9,9 @@ import pytest
 from hypothesis import given, strategies as st
 
 import viscontact as vc
-from viscontact.laws import LawParams, resolve
-from viscontact.solvers import BATCH_RTOL, SOLVERS, solve_batch
+from viscontact.physics.laws import LawParams, resolve
+from viscontact.solvers import SOLVERS
+from viscontact.solvers.batch import BATCH_RTOL, solve_batch
 from viscontact.solvers.reference import solve_reference
 from references import TC_HERTZ, hunt_e, taylor_reference, tsuji_force_e, tsuji_overlap_alpha
 

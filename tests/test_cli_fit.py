@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from conftest import run_cli
 
-from viscontact.calibration import alpha_from_e
+from viscontact.calibration.inverse import alpha_from_e
 from viscontact.cli import main
 from viscontact.fit.synthetic import synthetic_recording, write_recording
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import viscontact as vc
-from viscontact.kernels import force
+from viscontact.physics.kernels import force
 from references import (TC_HERTZ, XMAX_HERTZ, hunt_e, taylor_reference, tsuji_force_e,
                         tsuji_overlap_alpha)
 

@@ -16,9 +16,9 @@ import pytest
 from viscontact.demstudy import bounce, gas, jobs, theory
 from viscontact.demstudy.engine import LawSpec
 from viscontact.demstudy.report import QUICK, report_files
-from viscontact.outputs import MANIFEST
-from viscontact.dimensional import STANDARD_GRAVITY, hertz_limit
-from viscontact.experiment import calibrate_ball, load_balls
+from viscontact._support.outputs import MANIFEST
+from viscontact.physics.pair import STANDARD_GRAVITY, hertz_limit
+from viscontact.paper.experiment import calibrate_ball, load_balls
 
 from conftest import run_cli
 from test_browser import CHROMEDRIVER, CHROMIUM, _request, webdriver  # noqa: F401 (fixture)
@@ -373,7 +373,7 @@ def test_native_stand_in_lines_carry_the_calibrated_damping(model):
     """The native stand-in (VISCONTACT_DEM_BACKEND=native) writes pair_style granular lines
     whose damping equals the law's: Ts alpha = native tsuji's alpha_T(e); KK
     c0 = alpha m*^(2/5) v^(-1/5) k_H^(3/5) (SPEC 3, p = 1/2) = native eta0 m* sqrt(R*)."""
-    from viscontact.calibration import alpha_from_e
+    from viscontact.calibration.inverse import alpha_from_e
     from viscontact.demstudy import engine
 
     E, nu, m, r, v = 1e7, 0.3, 1e-3, 0.005, 0.5

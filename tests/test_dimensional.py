@@ -5,7 +5,7 @@ import math
 import pytest
 
 import viscontact as vc
-from viscontact.dimensional import contact_pair, damping_unit
+from viscontact.physics.pair import contact_pair, damping_unit
 
 # the indoor lacrosse ball (SPEC section 7)
 M, K, V = 0.1547, 1.688e6, 1.716
@@ -147,7 +147,7 @@ def test_poisson_range_is_half_open():
 
 
 def test_hertz_limit_closed_form_matches_the_solver():
-    from viscontact.dimensional import HERTZ_TC, HERTZ_XMAX, hertz_limit
+    from viscontact.physics.pair import HERTZ_TC, HERTZ_XMAX, hertz_limit
 
     assert HERTZ_TC == pytest.approx(T_UNDAMPED, abs=1e-10)
     assert HERTZ_XMAX == pytest.approx(X_MAX, abs=1e-10)

@@ -2,7 +2,7 @@
 
 Each engine runs head-on collisions of equal spheres, unlike spheres (two materials) and a
 sphere on a flat wall, for typed e = 0.3, 0.6, 0.9 at 0.1, 1 and 10 m/s (helper:
-tests/engine_runs.py, one engine process per batch).  The delivered e must equal the audit's
+scripts/engine_harness.py, one engine process per batch).  The delivered e must equal the audit's
 prediction to 1e-3, the input the audit advises must deliver the target to 1e-3, and the
 undamped peak overlap must be that of the audit's Hertz spring and wall R* (Yade's wall:
 R* = R/2; LIGGGHTS and Kratos: R* = R).
@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import pytest
 
-import engine_runs as R
+import engine_harness as R
 
 
 @pytest.mark.parametrize("engine", ["liggghts", "yade"])

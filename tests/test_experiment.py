@@ -6,7 +6,7 @@ import pytest
 
 import viscontact as vc
 from viscontact.cli import main
-from viscontact.experiment import ball, calibrate_ball, calibrate_physical, data_source, load_balls
+from viscontact.paper.experiment import ball, calibrate_ball, calibrate_physical, data_source, load_balls
 
 
 def test_data_file_states_its_source_and_values():

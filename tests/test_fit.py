@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from viscontact.calibration import alpha_from_e
+from viscontact.calibration.inverse import alpha_from_e
 from viscontact.fit import Recording, RecordingError, measure, read_recording
 from viscontact.fit.fitting import FIT_LAWS, Weights, fit_global, fit_law, fit_laws
 from viscontact.fit.synthetic import example_recording, synthetic_recording, write_recording
@@ -95,7 +95,7 @@ def test_fit_recovers_parameters_light_damping(law):
 
 
 def test_physical_constants_follow_alpha():
-    from viscontact.dimensional import damping_coefficient
+    from viscontact.physics.pair import damping_coefficient
 
     _syn, alpha, meas = recording("Hunt", seed=4)
     fit = fit_law(meas, "Hunt")
@@ -137,13 +137,13 @@ def test_overlap_and_rate_weights_fit_too():
 
 
 def test_global_fit_across_drop_heights():
-    from viscontact.dimensional import damping_coefficient, time_scale
+    from viscontact.physics.pair import damping_coefficient, time_scale
 
     speeds = (1.0, 1.716, 2.4)
     c_true = damping_coefficient("Jian", float(alpha_from_e("Jian", 0.463, beta=0.5)), m_eff=M,
                                  k_hertz=K, v=V)
     tau_true = 0.5 * time_scale(M, K, V)
-    from viscontact.dimensional import damping_constants
+    from viscontact.physics.pair import damping_constants
 
     measured, truths = [], []
     for i, v in enumerate(speeds):

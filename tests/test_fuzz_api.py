@@ -1,7 +1,7 @@
 """Fuzz tests over the Python API (issue 13): every input gets a valid result or one clear
 ValueError, promptly; and the batch and reference solvers agree over the whole domain.
 
-The targets and the judge of a result are in ``tests/fuzz_api_targets.py`` (shared with
+The targets and the judge of a result are in ``scripts/fuzz_api_targets.py`` (shared with
 ``scripts/fuzz_api.py``, the bigger campaign).  Deadlines are generous (first use of a solver
 shape compiles it, ~5 s, cached on disk after); they catch hangs, not slowness.
 """
@@ -16,7 +16,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 import viscontact as vc
-from viscontact import domain, fit
+from viscontact.physics import domain
+from viscontact import fit
 
 import fuzz_api_targets as F
 

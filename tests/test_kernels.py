@@ -6,7 +6,7 @@ import math
 import mpmath
 import numpy as np
 
-from viscontact.kernels import relaxation
+from viscontact.physics.kernels import relaxation
 
 
 def test_relaxation_within_a_few_ulp_of_high_precision():

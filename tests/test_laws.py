@@ -1,7 +1,7 @@
 import pytest
 
 import viscontact as vc
-from viscontact.laws import LAWS, resolve, substitution_order
+from viscontact.physics.laws import LAWS, resolve, substitution_order
 
 
 def test_registry_lists_every_law_once():

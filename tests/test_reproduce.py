@@ -9,9 +9,9 @@ import os
 import pytest
 
 import viscontact as vc
-from viscontact.report import build
-from viscontact.report.build import MARKER, ReportError, report_files, reproduce
-from viscontact.study import ALPHA_GRID, BETA_GRID, PUBLISHED_E
+from viscontact.paper import report as build
+from viscontact.paper.report import MARKER, ReportError, report_files, reproduce
+from viscontact.paper.study import ALPHA_GRID, BETA_GRID, PUBLISHED_E
 
 
 FIGS = [f"fig{i:02d}.png" for i in range(2, 13)]

@@ -14,10 +14,10 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import viscontact as vc
-from viscontact import kernels
-from viscontact.collision import collide_params
-from viscontact.kernels_py import python_kernels
-from viscontact.laws import resolve
+from viscontact.physics import kernels
+from viscontact.collision.single import collide_params
+from viscontact.physics.kernels_py import python_kernels
+from viscontact.physics.laws import resolve
 from viscontact.solvers import reference
 
 PLAIN = python_kernels()
@@ -36,10 +36,10 @@ def loaded_modules(code: str) -> set[str]:
 
 
 def test_plain_kernels_do_not_import_numba():
-    mods = loaded_modules("from viscontact.kernels_py import python_kernels\n"
+    mods = loaded_modules("from viscontact.physics.kernels_py import python_kernels\n"
                           "python_kernels().rhs_sigma(0.5, 0.2, 1.0, 0.3, 0.5, 0.5, 2)")
     assert "numba" not in mods
-    assert "viscontact.kernels" not in mods
+    assert "viscontact.physics.kernels" not in mods
 
 
 def test_plain_kernels_are_the_kernels_source():
@@ -96,7 +96,7 @@ def test_compiled_kernels_after_a_few_plain_solves():
             "loaded = []\n"
             "for _ in range(PLAIN_SOLVES + 1):\n"
             "    vc.collide('KK', 0.3)\n"
-            "    loaded.append('viscontact.kernels' in sys.modules)\n"
+            "    loaded.append('viscontact.physics.kernels' in sys.modules)\n"
             "assert loaded == [False] * PLAIN_SOLVES + [True], loaded\n")
     subprocess.run([sys.executable, "-c", code], check=True)
 
@@ -139,7 +139,7 @@ def test_collide_command_in_a_fresh_process_matches_the_library(args):
                    beta=float(opts["--beta"]) if "--beta" in opts else None,
                    p=float(opts["--p"]) if "--p" in opts else None,
                    end=opts.get("--end", "force"))
-    assert "viscontact.kernels" in sys.modules
+    assert "viscontact.physics.kernels" in sys.modules
     assert got == r.to_dict()
 
 
@@ -152,7 +152,7 @@ def test_importing_viscontact_keeps_the_users_matplotlib_backend():
 
     names = sorted(m.name for m in pkgutil.walk_packages(viscontact.__path__, "viscontact.")
                    if not m.name.endswith("__main__"))  # running it would run the CLI
-    assert "viscontact.plotting" in names and "viscontact.audit.report" in names
+    assert "viscontact.collision.plots" in names and "viscontact.audit.report" in names
     code = ("import importlib, matplotlib, sys\n"
             "matplotlib.use('svg')\n"
             "for name in sys.argv[1:]:\n"

@@ -9,8 +9,8 @@ import pytest
 
 import viscontact as vc
 from viscontact.cli import main
-from viscontact.experiment import calibrate_ball, load_balls
-from viscontact.sweep import study_speeds, velocity_sweep
+from viscontact.paper.experiment import calibrate_ball, load_balls
+from viscontact.collision.sweep import study_speeds, velocity_sweep
 
 from conftest import run_cli
 

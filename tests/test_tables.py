@@ -1,7 +1,7 @@
 """Interpolation tables of e(alpha), e(alpha, beta) (issue 4, item 2).
 
 References: the exact batch solver at the tables' node tolerance (``tables.exact_e``, rtol
-1e-14, independent of the interpolation), and the closed forms of tests/references.py for
+1e-14, independent of the interpolation), and the closed forms of scripts/references.py for
 Hunt-Crossley and Tsuji.  Tables are built into the test session's temporary cache
 (conftest.py sets VISCONTACT_CACHE_DIR); building them relies on the compiled batch solver.
 """
@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 import viscontact as vc
-from viscontact import tables
+from viscontact.calibration import _interp, build, tables
+from viscontact.calibration import table as table_mod
 from references import hunt_e, tsuji_force_e, tsuji_overlap_alpha
 
 LAWS_1D = ["LH", "Ts", "KK", "Li", "Hunt"]
@@ -230,7 +231,7 @@ def test_concurrent_first_uses_build_a_table_once(tmp_path):
 
 
 def test_build_refuses_a_table_that_misses_the_exact_solver(fresh_cache, monkeypatch):
-    monkeypatch.setattr(tables, "VERIFY_TOL", 1e-30)
+    monkeypatch.setattr(build, "VERIFY_TOL", 1e-30)  # the check that refuses a table
     with pytest.warns(RuntimeWarning, match="misses the exact solver"):
         assert tables.get_table("Li", "force") is None
     assert not tables.table_path("Li", "force").exists()
@@ -255,12 +256,12 @@ def test_lookup_finds_the_same_piece_as_a_search():
         table = tables.get_table(law, end)
         axes = [table.alpha_axis[0]] if table.beta_axis is None else [table.beta_axis[0]]
         for breaks in axes:
-            lut, scale = tables._lookup(breaks, 64)  # few cells: several pieces share one
+            lut, scale = table_mod._lookup(breaks, 64)  # few cells: several pieces share one
             x = np.concatenate([rng.uniform(0, breaks[-1], 2000), breaks,
                                 np.nextafter(breaks, 0), np.nextafter(breaks, np.inf)])
             x = x[(x >= 0) & (x <= breaks[-1])]
             want = np.minimum(np.searchsorted(breaks, x, side="right") - 1, breaks.size - 2)
-            got = np.array([tables._find(breaks, lut, scale, v) for v in x])
+            got = np.array([_interp._find(breaks, lut, scale, v) for v in x])
             assert np.array_equal(got, want)
 
 
@@ -277,7 +278,7 @@ def test_jian_block_cells_bracket_every_block_search(end):
         e = rng.uniform(0, 1, 300)
         values = np.polynomial.chebyshev.chebval(xb, left[g0:g1].T)  # (blocks, points)
         count = np.count_nonzero(values >= e, axis=0)
-        cell = table._cells[j][np.minimum((e * tables._E_CELLS).astype(int), tables._E_CELLS - 1)]
+        cell = table._cells[j][np.minimum((e * _interp._E_CELLS).astype(int), _interp._E_CELLS - 1)]
         assert np.all(cell[:, 0] <= count) and np.all(count <= cell[:, 1])
 
 
@@ -319,10 +320,10 @@ def test_newton_finish_falls_back_from_a_poor_start():
     """_finish takes two Newton steps from its start and, if they leave the root unfinished,
     the safeguarded iteration: a start far from the root still ends on it."""
     c = np.polynomial.chebyshev.poly2cheb([0.6, -0.3, -0.05, 0.01])  # decreasing on [-1, 1]
-    s = np.polynomial.chebyshev.chebval(np.linspace(-1, 1, tables._SAMPLES_2D), c)
+    s = np.polynomial.chebyshev.chebval(np.linspace(-1, 1, _interp._SAMPLES_2D), c)
     target = float(np.polynomial.chebyshev.chebval(0.37, c))
     a = int(np.count_nonzero(s[1:-1] >= target))
     curvature = float(np.sum(np.abs(np.polynomial.chebyshev.chebder(c, 2))))
     for start in (0.37, -0.99, 0.99, math.nan):
-        xi = tables._finish(c, s, a, target, curvature, start)
+        xi = _interp._finish(c, s, a, target, curvature, start)
         assert abs(np.polynomial.chebyshev.chebval(xi, c) - target) <= 1e-12

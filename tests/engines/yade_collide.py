@@ -1,6 +1,6 @@
 """Run inside Yade (``yade -n -x yade_collide.py CASES.json OUT.json``): head-on collisions.
 
-Each case of CASES.json (written by tests/engine_runs.py) gives the bodies (radius, density,
+Each case of CASES.json (written by scripts/engine_harness.py) gives the bodies (radius, density,
 Young's modulus, Poisson ratio, position, velocity; a body with radius None is a wall at
 x = 0), the typed ``en``, the time step and the number of steps.  For each case the script
 writes the final velocities and the largest overlap seen (penetrationDepth), one process for

@@ -5,6 +5,9 @@
 * :mod:`.engines`: DEM-engine presets mapped to (law, alpha, end criterion), with
   :func:`audit_engine` (delivered e and the input that gives the target e).
 * :mod:`.report`: the full tables (CSV, Markdown) and plots.
+
+Imports the layers below it: physics, solvers, collision, calibration, paper, _support.  An engine
+preset is one :class:`Preset` entry in :mod:`.engines` (ARCHITECTURE.md).
 """
 
 from .formulas import FORMULAS, Formula, FormulaAudit, audit_formula, get_formula

@@ -14,8 +14,8 @@ Units: SI (any consistent set works; T must come out in the engine's time unit).
 
 Physical inputs.  The dashpots whose coefficient is fixed in physical units (LAMMPS
 ``velocity``, ``mass_velocity``, ``viscoelastic``) have an alpha that depends on the impact
-speed through T = (m*^2 / (k_Hertz^2 v))^(1/5) (SPEC section 1); they need a
-:class:`viscontact.dimensional.ContactPair` with its impact speed (``ContactPair.at(v)``).  The restitution-based options (Tsuji-type, c = alpha sqrt(m* k_Hertz)
+speed through T = (m*^2 / (k_Hertz^2 v))^(1/5) (Hertz contact of two spheres); they need a
+:class:`viscontact.physics.pair.ContactPair` with its impact speed (``ContactPair.at(v)``).  The restitution-based options (Tsuji-type, c = alpha sqrt(m* k_Hertz)
 delta^(1/4)) have an alpha independent of speed, mass and stiffness.
 """
 
@@ -27,14 +27,15 @@ from dataclasses import dataclass
 
 # scipy is imported in the functions that use it: the command line loads this module for
 # its --help, which should not pay for scipy.
-from .. import domain
-from ..collision import check_end
-from ..dimensional import ContactPair
-from ..laws import check_finite_nonneg
+from ..physics import domain
+from ..collision.single import check_end
+from ..physics.pair import ContactPair
+from ..physics.laws import check_finite_nonneg
 from .formulas import (
     antypov_elliott_alpha, antypov_elliott_inverse, delivered_e, exact_alpha,
     missing_alpha_reason, thornton_alpha, tsuji_polynomial, unreachable_reason, _check_target_e,
 )
+from ..physics.laws import KK, LH, Ts
 
 __all__ = ["Preset", "PRESETS", "ENGINES", "EngineAudit", "audit_engine", "get_preset",
            "parse_version"]
@@ -236,38 +237,38 @@ def _lammps(option: str, model: str, name: str, units: str, to_a, from_a, mappin
 
 
 _REGISTERED: tuple[Preset, ...] = (
-    _lammps("velocity", "LH", "eta_n0", "kg/s",
+    _lammps("velocity", LH.name, "eta_n0", "kg/s",
             lambda eta, p: check_finite_nonneg("eta_n0", eta) * _need(p, "velocity").T / p.m_eff,
             lambda a, p: a * _need(p, "velocity").m_eff / p.T,
             "hertz/material + damping velocity: F_damp = -eta_n0 v_n (constant dashpot) => LH law, "
             "alpha = eta_n0 T / m* (depends on v through T)", physical=True),
-    _lammps("mass_velocity", "LH", "eta_n0", "1/s",
+    _lammps("mass_velocity", LH.name, "eta_n0", "1/s",
             lambda eta, p: check_finite_nonneg("eta_n0", eta) * _need(p, "mass_velocity").T,
             lambda a, p: a / _need(p, "mass_velocity").T,
             "damping mass_velocity: F_damp = -eta_n0 m* v_n => LH law, alpha = eta_n0 T "
             "(depends on v through T)", physical=True),
-    _lammps("viscoelastic", "KK", "eta_n0", "1/(m s)",
+    _lammps("viscoelastic", KK.name, "eta_n0", "1/(m s)",
             lambda eta, p: (check_finite_nonneg("eta_n0", eta) * _need(p, "viscoelastic").m_eff
                             * math.sqrt(p.r_eff) / (p.k_hertz * p.T)),
             lambda a, p: a * _need(p, "viscoelastic").k_hertz * p.T / (p.m_eff * math.sqrt(p.r_eff)),
             "damping viscoelastic: F_damp = -eta_n0 m* a v_n, a = sqrt(R* delta) => KK law, "
             "alpha = eta_n0 m* sqrt(R*) / (k_Hertz T) (depends on v through T)", physical=True),
-    _lammps("tsuji", "Ts", "e", "-", _tsuji_to(1.0), _tsuji_from(1.0),
+    _lammps("tsuji", Ts.name, "e", "-", _tsuji_to(1.0), _tsuji_from(1.0),
             "damping tsuji: F_damp = -alpha(e) sqrt(m* F_ne / delta) v_n = -alpha sqrt(m* k_Hertz) "
             "delta^(1/4) v_n with alpha(e) the Tsuji polynomial as documented (stable 22Jul2025, "
             "the pinned version, verified by running it) => Ts law",
             extra_src="; GranSubModDampingTsuji::init()"),
-    _lammps("tsuji-sqrt2", "Ts", "e", "-", _tsuji_to(math.sqrt(2.0)), _tsuji_from(math.sqrt(2.0)),
+    _lammps("tsuji-sqrt2", Ts.name, "e", "-", _tsuji_to(math.sqrt(2.0)), _tsuji_from(math.sqrt(2.0)),
             "damping tsuji in LAMMPS development versions after 22Jul2025: the Tsuji polynomial times "
             "sqrt(2) ('effective mass convention') => Ts law",
             extra_src="; GranSubModDampingTsuji::init() (damp *= MY_SQRT2)",
             versions="development versions after 22Jul2025 (source)"),
-    _lammps("coeff_restitution", "Ts", "e", "-", _ae_to, _ae_from,
+    _lammps("coeff_restitution", Ts.name, "e", "-", _ae_to, _ae_from,
             "damping coeff_restitution with a Hertzian normal model: damp = -sqrt(3/2) 2 sqrt(5/6) ln e "
             "/ sqrt(pi^2 + ln^2 e) times sqrt(m* F_ne / delta) => Ts law with the Antypov-Elliott alpha",
             extra_src="; GranSubModDampingCoeffRestitution::init()"),
     Preset(
-        engine="liggghts", option="hertz", model="Ts", input_name="e", input_units="-",
+        engine="liggghts", option="hertz", model=Ts.name, input_name="e", input_units="-",
         to_alpha=_ae_to, from_alpha=_ae_from, end_clamped="force", end_unclamped="overlap",
         clamp_flag="limitForce",
         source="LIGGGHTS-PUBLIC src/normal_model_hertz.h (NormalModel<HERTZ>::surfacesIntersect: "
@@ -282,7 +283,7 @@ _REGISTERED: tuple[Preset, ...] = (
               "wall type's Young's modulus and Poisson ratio"),
         wall_r_factor=1.0),
     Preset(
-        engine="mercurydpm", option="hertzian-viscoelastic", model="Ts", input_name="e", input_units="-",
+        engine="mercurydpm", option="hertzian-viscoelastic", model=Ts.name, input_name="e", input_units="-",
         to_alpha=_ae_to, from_alpha=_ae_from, end_clamped="force", end_unclamped="overlap",
         clamp_flag=None, clamp_default=False,
         source="MercuryDPM Kernel/Species/NormalForceSpecies/HertzianViscoelasticNormalSpecies.cc "
@@ -294,7 +295,7 @@ _REGISTERED: tuple[Preset, ...] = (
                 "the Antypov-Elliott alpha; the force may pull, contact ends at zero overlap",
         versions="master source (read, not run)"),
     Preset(
-        engine="chrono", option="smc-hertz", model="Ts", input_name="e", input_units="-",
+        engine="chrono", option="smc-hertz", model=Ts.name, input_name="e", input_units="-",
         to_alpha=_ae_to, from_alpha=_ae_from, end_clamped="force", end_unclamped="overlap",
         clamp_flag=None, clamp_default=True,
         source="Project Chrono src/chrono/physics/ChContactSMC.h (CalculateForce, case "
@@ -303,7 +304,7 @@ _REGISTERED: tuple[Preset, ...] = (
         mapping=_AE_WORDS + "; negative normal force set to zero: zero-force end",
         versions="Chrono 8 and 9 source (read, not run)"),
     Preset(
-        engine="demengine", option="hertzian", model="Ts", input_name="e", input_units="-",
+        engine="demengine", option="hertzian", model=Ts.name, input_name="e", input_units="-",
         to_alpha=_ae_to, from_alpha=_ae_from, end_clamped="force", end_unclamped="overlap",
         clamp_flag=None, clamp_default=False,
         source="DEM-Engine src/kernel/DEMCustomizablePolicies/FullHertzianForceModel.cu (default "
@@ -312,7 +313,7 @@ _REGISTERED: tuple[Preset, ...] = (
         mapping=_AE_WORDS + "; no clamp: the force may pull, contact ends at zero overlap",
         versions="main source (read, not run)"),
     Preset(
-        engine="yade", option="hertz-mindlin", model="Ts", input_name="e", input_units="-",
+        engine="yade", option="hertz-mindlin", model=Ts.name, input_name="e", input_units="-",
         to_alpha=_thornton_to(1.0), from_alpha=_thornton_from(1.0), end_clamped="force",
         end_unclamped="overlap", clamp_flag=None, clamp_default=True,
         source="Yade 2023.02a pkg/dem/HertzMindlin.cpp (Ip2_FrictMat_FrictMat_MindlinPhys::go: betan = "
@@ -332,7 +333,7 @@ _REGISTERED: tuple[Preset, ...] = (
               "material"),
         wall_r_factor=0.5),
     Preset(
-        engine="yade", option="hertz-mindlin", model="Ts", input_name="e", input_units="-",
+        engine="yade", option="hertz-mindlin", model=Ts.name, input_name="e", input_units="-",
         to_alpha=_ae_to, from_alpha=_ae_from, end_clamped="force", end_unclamped="overlap",
         clamp_flag=None, clamp_default=True,
         source="Yade up to 2022.01a pkg/dem/HertzMindlin.cpp (Ip2_FrictMat_FrictMat_MindlinPhys::go: "
@@ -345,7 +346,7 @@ _REGISTERED: tuple[Preset, ...] = (
         versions="up to 2022.01a (source, not run)", until="2022.01a",
         wall="as 2023.02a (same Ip2 radius rule, source): R* = R/2 at utils.wall", wall_r_factor=0.5),
     Preset(
-        engine="kratos", option="hertz-viscous-coulomb", model="Ts", input_name="e", input_units="-",
+        engine="kratos", option="hertz-viscous-coulomb", model=Ts.name, input_name="e", input_units="-",
         to_alpha=_kratos_to, from_alpha=_thornton_from(0.999), end_clamped="force",
         end_unclamped="overlap", clamp_flag=None, clamp_default=True,
         source="Kratos 10.4.4 DEMApplication: sphere_strategy.py (ModifySubProperties: DAMPING_GAMMA = "

@@ -1,7 +1,7 @@
 """Published closed-form calibrations alpha(e), one function each, in one registry.
 
-Every formula is written for one of the laws of :mod:`viscontact.laws`, in that law's
-non-dimensional damping constant alpha (SPEC sections 2-3), so that the exact solver can say
+Every formula is written for one of the laws of :mod:`viscontact.physics.laws`, in that law's
+non-dimensional damping constant alpha (Jian et al. 2019, eqs. of the damping terms), so that the exact solver can say
 what restitution the alpha really delivers.  Conversions used here:
 
 * Hunt-Crossley papers write F = k delta^(3/2) (1 + chi delta'), with chi = lambda / k_Hertz.
@@ -29,10 +29,11 @@ import numpy as np
 
 # scipy is imported in the functions that use it: the command line loads this module for
 # its --help, which should not pay for scipy.
-from .. import domain
-from ..calibration import alpha_from_e, restitution
-from ..collision import check_end
-from ..laws import lookup
+from ..physics import domain
+from ..calibration.inverse import alpha_from_e, restitution
+from ..collision.single import check_end
+from ..physics.laws import lookup
+from ..physics.laws import Hunt, KK, LH, Li, Power, Ts
 
 __all__ = [
     "Formula", "FORMULAS", "FormulaAudit", "audit_formula", "exact_alpha", "delivered_e",
@@ -55,7 +56,7 @@ def _check_e(e: float) -> float:
 
 
 def _check_target_e(e: float) -> float:
-    """A target restitution for an exact solve: inside its domain (:mod:`viscontact.domain`)."""
+    """A target restitution for an exact solve: inside its domain (:mod:`viscontact.physics.domain`)."""
     return domain.check("e", e)
 
 
@@ -201,7 +202,7 @@ def _muller_poschel(e: float) -> float:
 def antypov_elliott_alpha(e: float) -> float:
     """alpha = -sqrt(5) ln e / sqrt(ln^2 e + pi^2).
 
-    Exact for the Tsuji law with the zero-overlap criterion (SPEC section 6).
+    Exact for the Tsuji law with the zero-overlap criterion (checked against the published values of Jian et al. 2019).
     D. Antypov, J.A. Elliott, EPL 94 (2011) 50004.  This is also the formula inside LAMMPS
     ``coeff_restitution``, LIGGGHTS ``hertz``, Chrono SMC Hertz, DEM-Engine, MercuryDPM and
     Yade up to 2022.01a (Yade 2023.02a and Kratos DEM use :func:`thornton_gamma`; see
@@ -325,7 +326,7 @@ class Formula:
 
     @property
     def law_label(self) -> str:
-        return f"power (p = {self.p:g})" if self.model == "power" else self.model
+        return f"power (p = {self.p:g})" if self.model == Power.name else self.model
 
 
 def first_order_formula(model: str, p: float | None = None) -> Formula:
@@ -352,48 +353,48 @@ def first_order_formula(model: str, p: float | None = None) -> Formula:
 
 
 _REGISTERED: tuple[Formula, ...] = (
-    Formula("hunt-crossley", "Hunt-Crossley / Marhefka-Orin", "Hunt",
+    Formula("hunt-crossley", "Hunt-Crossley / Marhefka-Orin", Hunt.name,
             "K.H. Hunt, F.R.E. Crossley, J. Appl. Mech. 42 (1975) 440; D.W. Marhefka, D.E. Orin, "
             "IEEE Trans. SMC-A 29 (1999) 566", _hunt_crossley),
-    Formula("lee-wang", "Lee-Wang", "Hunt",
+    Formula("lee-wang", "Lee-Wang", Hunt.name,
             "T.W. Lee, A.C. Wang, J. Mech. Transm. Autom. Des. 105 (1983) 534", _lee_wang),
-    Formula("herbert-mcwhannell", "Herbert-McWhannell", "Hunt",
+    Formula("herbert-mcwhannell", "Herbert-McWhannell", Hunt.name,
             "R.G. Herbert, D.C. McWhannell, J. Eng. Ind. 99 (1977) 513", _herbert_mcwhannell),
-    Formula("lankarani-nikravesh", "Lankarani-Nikravesh", "Hunt",
+    Formula("lankarani-nikravesh", "Lankarani-Nikravesh", Hunt.name,
             "H.M. Lankarani, P.E. Nikravesh, J. Mech. Des. 112 (1990) 369", _lankarani_nikravesh),
-    Formula("gonthier", "Gonthier et al.", "Hunt",
+    Formula("gonthier", "Gonthier et al.", Hunt.name,
             "Y. Gonthier, J. McPhee, C. Lange, J.-C. Piedboeuf, Multibody Syst. Dyn. 11 (2004) 209",
             _gonthier),
-    Formula("zhiying-qishao", "Zhiying-Qishao", "Hunt",
+    Formula("zhiying-qishao", "Zhiying-Qishao", Hunt.name,
             "Q. Zhiying, L. Qishao (2006), as tabulated by P. Flores et al., Multibody Syst. Dyn. 25 (2011) 357", _zhiying_qishao),
-    Formula("flores", "Flores et al.", "Hunt",
+    Formula("flores", "Flores et al.", Hunt.name,
             "P. Flores, M. Machado, M.T. Silva, J.M. Martins, Multibody Syst. Dyn. 25 (2011) 357",
             _flores),
-    Formula("gharib-hurmuzlu", "Gharib-Hurmuzlu", "Hunt",
+    Formula("gharib-hurmuzlu", "Gharib-Hurmuzlu", Hunt.name,
             "M. Gharib, Y. Hurmuzlu, J. Appl. Mech. (2012)", _gharib_hurmuzlu),
-    Formula("hu-guo", "Hu-Guo", "Hunt", "S. Hu, X. Guo, Multibody Syst. Dyn. (2015)", _hu_guo),
-    Formula("carvalho-martins", "exact Hunt relation (Carvalho-Martins)", "Hunt",
+    Formula("hu-guo", "Hu-Guo", Hunt.name, "S. Hu, X. Guo, Multibody Syst. Dyn. (2015)", _hu_guo),
+    Formula("carvalho-martins", "exact Hunt relation (Carvalho-Martins)", Hunt.name,
             "(1+e) alpha = ln((1+alpha)/(1-alpha e)); A.S. Carvalho, J.M. Martins, Mech. Mach. "
             "Theory (2019)", hunt_exact_alpha, derived_for="both"),
-    Formula("schwager-poschel", "Schwager-Poschel series", "KK",
+    Formula("schwager-poschel", "Schwager-Poschel series", KK.name,
             "T. Schwager, T. Poschel, Phys. Rev. E 57 (1998) 650", _schwager_poschel,
             derived_for="overlap"),
-    Formula("muller-poschel", "Muller-Poschel Pade", "KK",
+    Formula("muller-poschel", "Muller-Poschel Pade", KK.name,
             "P. Muller, T. Poschel, Phys. Rev. E 84 (2011) 021302", _muller_poschel,
             derived_for="force"),
-    Formula("antypov-elliott", "Antypov-Elliott", "Ts",
+    Formula("antypov-elliott", "Antypov-Elliott", Ts.name,
             "D. Antypov, J.A. Elliott, EPL 94 (2011) 50004", antypov_elliott_alpha,
             derived_for="overlap"),
-    Formula("thornton-2013", "Thornton-Cummins-Cleary fit", "Ts",
+    Formula("thornton-2013", "Thornton-Cummins-Cleary fit", Ts.name,
             "C. Thornton, S.J. Cummins, P.W. Cleary, Powder Technol. 233 (2013) 30, eqs. B6-B7 "
             "(Table 2 coefficients); alpha = sqrt(6) gamma", thornton_alpha, derived_for="force"),
-    Formula("tsuji-lammps", "Tsuji curve (LAMMPS doc)", "Ts",
+    Formula("tsuji-lammps", "Tsuji curve (LAMMPS doc)", Ts.name,
             "Y. Tsuji et al., Powder Technol. 71 (1992) 239; J.S. Marshall, J. Comput. Phys. 228 "
             "(2009) 1541 eq. 53; LAMMPS doc pair_granular", _tsuji_lammps),
-    Formula("tsuji-lammps-sqrt2", "Tsuji curve x sqrt(2) (LAMMPS source)", "Ts",
+    Formula("tsuji-lammps-sqrt2", "Tsuji curve x sqrt(2) (LAMMPS source)", Ts.name,
             "as tsuji-lammps, times sqrt(2): LAMMPS src/GRANULAR/gran_sub_mod_damping.cpp",
             _tsuji_lammps_sqrt2),
-) + tuple(first_order_formula(m) for m in ("LH", "Ts", "KK", "Li", "Hunt"))
+) + tuple(first_order_formula(m) for m in (LH.name, Ts.name, KK.name, Li.name, Hunt.name))
 
 FORMULAS: dict[str, Formula] = {f.name: f for f in _REGISTERED}
 
@@ -417,7 +418,7 @@ def get_formula(name: str, *, model: str | None = None, p: float | None = None) 
 # ------------------------------------------------------------------------- exact numbers
 @lru_cache(maxsize=4096)
 def _exact_alpha_cached(model: str, p: float | None, e: float, end: str) -> float:
-    if model == "Hunt":
+    if model == Hunt.name:
         return hunt_exact_alpha(e)  # exact for both criteria (tested against the solver)
     try:
         return float(alpha_from_e(model, e, p=p, end=end))

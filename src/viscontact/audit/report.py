@@ -12,8 +12,8 @@ import math
 import os
 from collections.abc import Iterable, Sequence
 
-from ..dimensional import ContactPair
-from ..domain import range_text
+from ..physics.pair import ContactPair
+from ..physics.domain import range_text
 from .engines import ENGINES, EngineAudit, audit_engine, get_preset, presets_of
 from .formulas import FORMULAS, FormulaAudit, audit_formula
 
@@ -27,7 +27,7 @@ __all__ = [
 DEFAULT_GRID: tuple[float, ...] = tuple(round(0.05 * i, 2) for i in range(1, 20)) + (0.99,)
 #: the e values quoted in the summary
 SUMMARY_E: tuple[float, ...] = (0.3, 0.5, 0.9)
-#: collision used for the physical-unit presets: the indoor lacrosse ball of SPEC section 7
+#: collision used for the physical-unit presets: the indoor lacrosse ball of Jian et al. (2019)
 #: dropped on a rigid plate (m* = m, R* = R), v_i = 1.716 m/s
 DEFAULT_PHYSICAL = ContactPair(m_eff=0.1547, r_eff=0.03175, k_hertz=1.688e6, v=1.716)
 
@@ -163,20 +163,16 @@ def summary_markdown(e_values: Sequence[float] = SUMMARY_E,
     return "\n".join(out) + "\n"
 
 
-def _mpl():
-    """Figure factory that leaves the caller's matplotlib backend alone."""
-    from ..plotting import plt
-
-    return plt
-
-
 def plot_formulas(rows: Sequence[FormulaAudit], path: str) -> str:
     """Delivered against target e, one line per formula, one panel per end criterion."""
-    plt = _mpl()
+    import matplotlib  # here, so that the audit command's --help does not load it
+    from matplotlib.figure import Figure
+
     ends = [end for end in ENDS if any(r.end == end for r in rows)]
-    fig, axes = plt.subplots(1, len(ends), figsize=(7.5 * len(ends), 8.5), squeeze=False)
+    fig = Figure(figsize=(7.5 * len(ends), 8.5))
+    axes = fig.subplots(1, len(ends), squeeze=False)
     names = list(dict.fromkeys(r.formula for r in rows))
-    cmap = plt.get_cmap("tab20")
+    cmap = matplotlib.colormaps["tab20"]
     styles = ["-", "--", "-.", ":"]
     for ax, end in zip(axes[0], ends):
         ax.plot([0, 1], [0, 1], color="k", lw=0.8, label="delivered = target")
@@ -196,17 +192,19 @@ def plot_formulas(rows: Sequence[FormulaAudit], path: str) -> str:
     fig.legend(handles, labels, loc="lower center", ncol=5, fontsize=8, frameon=False)
     fig.tight_layout(rect=(0, 0.14, 1, 1))
     fig.savefig(path, dpi=120)
-    plt.close(fig)
     return path
 
 
 def plot_engines(rows: Sequence[EngineAudit], path: str) -> str:
     """Delivered against target e, one line per engine setting."""
-    plt = _mpl()
-    fig, ax = plt.subplots(figsize=(8, 10))
+    import matplotlib  # here, so that the audit command's --help does not load it
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(8, 10))
+    ax = fig.subplots()
     ax.plot([0, 1], [0, 1], color="k", lw=0.8, label="delivered = target")
     keys = list(dict.fromkeys((r.engine, r.option, r.versions, r.clamp, r.end) for r in rows))
-    cmap = plt.get_cmap("tab20")
+    cmap = matplotlib.colormaps["tab20"]
     for i, (eng, opt, versions, clamp, end) in enumerate(keys):
         pts = [(r.target_e, r.delivered_e) for r in rows if (r.engine, r.option, r.versions, r.clamp, r.end)
                == (eng, opt, versions, clamp, end) and r.delivered_e is not None]
@@ -225,7 +223,6 @@ def plot_engines(rows: Sequence[EngineAudit], path: str) -> str:
     ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2, frameon=False)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
-    plt.close(fig)
     return path
 
 

@@ -1,4 +1,5 @@
-"""The ``viscontact`` command line: a thin layer over the library.
+"""The ``viscontact`` command line: a thin layer over the library (the top layer: it may
+import every package; nothing imports it).
 
 Each command lives in its own module exposing ``register(subparsers)``; ``COMMANDS`` lists
 them.  Exit statuses: 0 success; 2 a user mistake (bad or repeated option, bad value, a
@@ -45,7 +46,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from .. import __version__
+    from .._version import __version__
 
     parser = _Parser(
         prog="viscontact",

@@ -6,15 +6,15 @@ import argparse
 import os
 
 from ..audit.engines import ENGINES, audit_engine, get_preset
-from ..dimensional import ContactPair
+from ..physics.pair import ContactPair
 from ..audit.formulas import FORMULAS, audit_formula, get_formula
 from ..solvers import END_CRITERIA
-from .. import outputs
+from .._support import outputs
 from .common import add_force_option, add_law_option, print_json
 
 
 DEFAULT_OUT = "viscontact-report/audit"
-from ..domain import range_text as _R
+from ..physics.domain import range_text as _R
 
 
 def register(sub: argparse._SubParsersAction) -> None:

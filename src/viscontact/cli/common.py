@@ -8,9 +8,10 @@ import math
 import sys
 from typing import Any
 
-from ..laws import MODELS
+from .._support.outputs import finite_json
+from ..physics.laws import MODELS
 from ..solvers import END_CRITERIA
-from ..domain import range_text as _R
+from ..physics.domain import range_text as _R
 
 
 def add_law_option(parser: argparse.ArgumentParser, help: str, required: bool = False) -> None:
@@ -32,17 +33,6 @@ def add_model_options(parser: argparse.ArgumentParser, required: bool = True,
                         help=f"damping exponent, only for --law power; {_R('p')}")
     parser.add_argument("--end", choices=END_CRITERIA, default="force",
                         help="end of contact: zero force (default, the study's choice) or zero overlap")
-
-
-def finite_json(obj: Any) -> Any:
-    """Replace non-finite floats by None so the output is strict JSON."""
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    if isinstance(obj, dict):
-        return {k: finite_json(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [finite_json(v) for v in obj]
-    return obj
 
 
 def print_json(obj: Any) -> None:

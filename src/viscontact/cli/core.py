@@ -9,12 +9,13 @@ import sys
 
 import numpy as np
 
-from ..calibration import alpha_from_e, restitution
-from ..collision import collide
-from .. import outputs
+from ..calibration.inverse import alpha_from_e, restitution
+from ..collision.single import collide
+from .._support import outputs
 from . import physical
 from .common import add_force_option, add_model_options, conflict, note, print_json
-from ..domain import range_text as _R
+from ..physics.domain import range_text as _R
+from ..physics.laws import Power
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -70,7 +71,7 @@ def _collide(args: argparse.Namespace) -> int:
         outputs.check_file(args.plot, "collide", args.force, "--plot", ".png")
     r = collide(args.model, args.alpha, beta=args.beta, p=args.p, end=args.end)
     if args.plot is not None:
-        from ..plotting import plot_collision
+        from ..collision.plots import plot_collision
 
         outputs.write_png(args.plot, "collide", args.force, "--plot",
                           lambda tmp: plot_collision([r], tmp))
@@ -78,7 +79,7 @@ def _collide(args: argparse.Namespace) -> int:
         print_json(r.to_dict(histories=args.histories))
         return 0
     name = r.model + (f" (beta = {r.beta:g})" if r.beta is not None else "")
-    name += f" (p = {r.p:g})" if r.model == "power" else ""
+    name += f" (p = {r.p:g})" if r.model == Power.name else ""
     print(f"{name}, alpha = {r.alpha:g}, zero-{r.end} end")
     rows = [
         ("restitution e", r.e), ("contact time t_c", r.tc), ("peak force F_max", r.fmax),

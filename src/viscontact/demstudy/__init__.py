@@ -1,4 +1,5 @@
-"""What the damping law changes in many-particle flows: the DEM study of issue 12.
+"""What the damping law changes in many-particle flows: the many-particle DEM study
+(layer 7: may import every package but cli).
 
 Modules: :mod:`.theory` (Haff's law, late-time exponents, the exact bounce sequence),
 :mod:`.bounce` (a lacrosse ball bouncing to rest), :mod:`.gas` (a freely cooling granular

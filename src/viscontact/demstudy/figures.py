@@ -1,5 +1,5 @@
 """Figures of the DEM study (read results only).  Every law keeps its colour of
-:data:`viscontact.plotting.LAW_COLORS`; theory and published laws are drawn in black or grey.
+:data:`viscontact.collision.plots.LAW_COLORS`; theory and published laws are drawn in black or grey.
 Every mark a figure draws has a legend entry; every axis says its unit (or that it has none)."""
 
 from __future__ import annotations
@@ -8,13 +8,17 @@ import math
 from pathlib import Path
 
 import numpy as np
+import matplotlib
+import matplotlib.cm
+from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 from matplotlib.ticker import FormatStrFormatter, LogLocator, NullFormatter, NullLocator
 
-from ..plotting import LAW_COLORS, LAW_MARKERS, plt
+from ..collision.plots import LAW_COLORS, LAW_MARKERS
 from . import theory
 from .bounce import GRAVITY_SMALL
+from ..physics.laws import KK, LH, Ts
 
 __all__ = ["CAPTIONS", "write_figures", "series_local_exponent", "asymptote_reached"]
 
@@ -82,7 +86,6 @@ CAPTIONS = {
 
 def _save(fig, path: Path) -> None:
     fig.savefig(path, dpi=DPI, bbox_inches="tight")
-    plt.close(fig)
 
 
 def _balls(res) -> list[str]:
@@ -91,8 +94,8 @@ def _balls(res) -> list[str]:
 
 def _bounce(res, path: Path) -> None:
     balls = _balls(res)
-    fig, axes = plt.subplots(2, len(balls), figsize=(9.5 * len(balls), 10), squeeze=False,
-                             layout="constrained")
+    fig = Figure(figsize=(9.5 * len(balls), 10), layout='constrained')
+    axes = fig.subplots(2, len(balls), squeeze=False)
     for j, b in enumerate(balls):
         cases = [c for c in res.bounces if c.ball == b]
         ax = axes[0, j]
@@ -173,7 +176,8 @@ def asymptote_reached(model: str, v: np.ndarray, tol: float = 0.1) -> bool:
 
 def _bounce_series(res, path: Path) -> None:
     balls = _balls(res)
-    fig, axes = plt.subplots(len(balls), 2, figsize=(13, 4.8 * len(balls)), squeeze=False)
+    fig = Figure(figsize=(13, 4.8 * len(balls)))
+    axes = fig.subplots(len(balls), 2, squeeze=False)
     for j, b in enumerate(balls):
         ax, ax2 = axes[j]
         for c in res.bounces:
@@ -226,7 +230,8 @@ def _gas(res, path: Path) -> None:
     g = res.gas
     s = g.setup
     tau0 = s.tau0()
-    fig, axes = plt.subplots(3, 2, figsize=(14, 15))
+    fig = Figure(figsize=(14, 15))
+    axes = fig.subplots(3, 2)
     ax = axes[0, 0]
     noise = math.sqrt(2.0 / (3.0 * s.n))
     ax.axhspan(1 - noise, 1 + noise, color="0.88", label=f"+- sqrt(2/(3N)) = {noise:.3f}")
@@ -260,9 +265,9 @@ def _gas(res, path: Path) -> None:
     ax.axhspan(-5, 5, color="0.9", label="+- 5 %")
     if g.haff_dev.size:
         for d in g.haff_dev:
-            ax.plot(g.haff_t, d * 100, "-", color=LAW_COLORS["Ts"], lw=0.8, alpha=0.6)
-        ax.plot([], [], "-", color=LAW_COLORS["Ts"], lw=0.8, alpha=0.6, label="each realisation")
-        ax.plot(g.haff_t, g.haff_mean_dev * 100, "s-", color=LAW_COLORS["Ts"], ms=4,
+            ax.plot(g.haff_t, d * 100, "-", color=LAW_COLORS[Ts.name], lw=0.8, alpha=0.6)
+        ax.plot([], [], "-", color=LAW_COLORS[Ts.name], lw=0.8, alpha=0.6, label="each realisation")
+        ax.plot(g.haff_t, g.haff_mean_dev * 100, "s-", color=LAW_COLORS[Ts.name], ms=4,
                 label=f"mean of {len(g.haff_dev)} realisations ({g.haff.n} spheres, contact "
                       f"{g.haff.tc_ratio:g} mean free times)")
     ax.axhline(0, color="k", lw=0.8)
@@ -310,9 +315,9 @@ def _gas(res, path: Path) -> None:
 def _gas_snapshot(res, path: Path) -> None:
     g = res.gas
     s = g.setup
-    laws = [m for m in ("Ts", "KK", "LH") if m in g.runs] or list(g.runs)[:1]
-    fig, axes = plt.subplots(1, len(laws), figsize=(6.0 * len(laws), 5.2), squeeze=False,
-                             layout="constrained")
+    laws = [m for m in (Ts.name, KK.name, LH.name) if m in g.runs] or list(g.runs)[:1]
+    fig = Figure(figsize=(6.0 * len(laws), 5.2), layout='constrained')
+    axes = fig.subplots(1, len(laws), squeeze=False)
     L = s.box
     bins = max(4, round((s.n / 3.0 / 10.0) ** 0.5))  # about 10 centres per bin in the slab
     for ax, m in zip(axes[0], laws):
@@ -327,7 +332,7 @@ def _gas_snapshot(res, path: Path) -> None:
         ax.set(xlabel="x / sigma", ylabel="y / sigma", aspect="equal",
                title=f"{m}, t = {g.runs[m].t[-1] / s.tau0():.3g} tau0 (ideal gas: +- "
                      f"{1 / math.sqrt(mean):.2f})")
-        plt.colorbar(im, ax=ax, shrink=0.8, label="centres per bin / mean  [-]")
+        ax.figure.colorbar(im, ax=ax, shrink=0.8, label="centres per bin / mean  [-]")
     _save(fig, path)
 
 
@@ -337,7 +342,7 @@ def _collapse(res, path: Path) -> None:
     f = res.flow
     s = f.setup
     d0 = s.d0
-    fig = plt.figure(figsize=(18, 10))
+    fig = Figure(figsize=(18, 10))
     gs = fig.add_gridspec(2, 3)
     ax = fig.add_subplot(gs[0, 0])
     seed0 = s.seeds[0]
@@ -430,18 +435,19 @@ def _collapse_snapshot(res, path: Path) -> None:
 
     f = res.flow
     runs = f.at(f.setup.compare)
-    r = next((r for r in runs if r.model == "Ts"), runs[0])
+    r = next((r for r in runs if r.model == Ts.name), runs[0])
     fr = r.final
     d0 = f.setup.d0
     xmax = r.front + 4 * d0
     top = r.H0 + (FLOOR_TOP_D + 1.5) * d0
-    fig, ax = plt.subplots(figsize=(13, 13 * top / xmax + 1.2))
+    fig = Figure(figsize=(13, 13 * top / xmax + 1.2))
+    ax = fig.subplots()
     order = np.argsort(fr["y"])[::-1]  # far spheres first, near ones drawn over them
     order = order[fr["x"][order] < xmax + d0]
     diam = 2 * fr["radius"][order] / d0
     offsets = np.column_stack([fr["x"][order], fr["z"][order]]) / d0
-    cmap = plt.get_cmap("plasma")
-    norm = plt.Normalize(0.8, 1.2)
+    cmap = matplotlib.colormaps["plasma"]
+    norm = matplotlib.colors.Normalize(0.8, 1.2)
     facec = [cmap(norm(dd)) if t == 1 else (0.75, 0.75, 0.75, 1.0)
              for dd, t in zip(diam, fr["type"][order])]
     coll = EllipseCollection(diam, diam, np.zeros_like(diam), units="xy", offsets=offsets,
@@ -460,8 +466,8 @@ def _collapse_snapshot(res, path: Path) -> None:
     ax.set(xlabel="x / d0  (d0 = 1 mm)", ylabel="z / d0",
            title=f"{r.model}, seed {r.seed}, a = {r.a:.2f}: the deposit at rest "
                  f"(t = {r.t_rest * 1e3:.1f} ms), side view")
-    sm = plt.cm.ScalarMappable(norm=norm, cmap=cmap)
-    plt.colorbar(sm, ax=ax, shrink=0.8, label="diameter / d0  [-]")
+    sm = matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap)
+    ax.figure.colorbar(sm, ax=ax, shrink=0.8, label="diameter / d0  [-]")
     _save(fig, path)
 
 

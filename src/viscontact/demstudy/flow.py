@@ -1,4 +1,4 @@
-"""Collapse of a granular column (issue 12, item 3; issue 21).
+"""Collapse of a granular column (Lube et al. 2005; Lajeunesse et al. 2005).
 
 A column of frictional polydisperse spheres (diameters uniform in [0.8, 1.2] d0) is built
 behind a gate on a rough floor (one layer of immobile spheres whose tops lie at z = d0) in a
@@ -27,10 +27,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..dimensional import STANDARD_GRAVITY, hertz_limit
-from ..laws import STUDY_MODELS
+from ..physics.pair import STANDARD_GRAVITY, effective_modulus, hertz_limit, hertz_stiffness
+from ..physics.laws import STUDY_MODELS
 from . import jobs
 from .engine import LawSpec, Material, Wall, coeff_text, read_dump, read_thermo, run_lammps
+from ..physics.laws import Jian, KK, Ts
 
 __all__ = ["FlowSetup", "QUICK_FLOW", "FULL_FLOW", "CollapseRun", "FlowStudy", "LawDifference",
            "run_flow", "deposit_profile", "runout_and_slope", "rest_time"]
@@ -57,7 +58,7 @@ class FlowSetup:
     aspects: tuple[float, ...] = (0.5, 1.0, 2.0)
     area_d: float = 50.0
     compare: float = 2.0
-    sweep_models: tuple[str, ...] | None = ("KK",)
+    sweep_models: tuple[str, ...] | None = (KK.name,)
     W_d: float = 4.0
     seeds: tuple[int, ...] = (11, 12)
     steps_per_contact: int = 50
@@ -93,8 +94,8 @@ class FlowSetup:
         loose column (built up to twice H0)."""
         v = math.sqrt(2.0 * self.g * 2.0 * (self.column(a)[1] + FLOOR_TOP_D * self.d0))
         m = self.mass0 * 0.8 ** 3
-        estar = self.E / (2.0 * (1.0 - self.nu ** 2))
-        k = 4.0 / 3.0 * estar * math.sqrt(0.2 * self.d0)
+        # the smallest spheres (0.8 d0) meeting: R* = 0.2 d0
+        k = hertz_stiffness(effective_modulus(self.E, self.nu, self.E, self.nu), 0.2 * self.d0)
         return hertz_limit(m / 2.0, k, v)[0] / self.steps_per_contact
 
     def models_at(self, a: float, models: tuple[str, ...]) -> tuple[str, ...]:
@@ -170,7 +171,7 @@ class FlowStudy:
             out.setdefault(r.model, []).append(r)
         return out
 
-    def law_differences(self, attr: str, aspect: float | None = None, ref: str = "KK"
+    def law_differences(self, attr: str, aspect: float | None = None, ref: str = KK.name
                         ) -> tuple[list[LawDifference], float]:
         """Each law's difference from ``ref`` in ``attr`` (``runout``, ``angle``, ``t_rest``,
         ``height``) at one aspect ratio (default: the comparison one), and the smallest
@@ -264,10 +265,10 @@ def rest_time(t: np.ndarray, ke: np.ndarray, threshold: float, t_min: float) -> 
 def _e_at(law: LawSpec, s: FlowSetup, v: float) -> float:
     """e of two spheres of diameter d0 under ``law`` (c0, tau of that pair) at impact speed v."""
     from .. import dem
-    from ..dimensional import ContactPair, impact
+    from ..physics.pair import ContactPair
+    from ..collision.impact import impact
 
-    estar = s.E / (2.0 * (1.0 - s.nu ** 2))
-    k = 4.0 / 3.0 * estar * math.sqrt(s.d0 / 4.0)
+    k = hertz_stiffness(effective_modulus(s.E, s.nu, s.E, s.nu), s.d0 / 4.0)
     m_eff = s.mass0 / 2.0
     dl = dem.contact_law(law.model, e=law.e, vref=law.vref, beta=law.beta)
     c0, tau = dl.physical(ContactPair.from_effective(m_eff=m_eff, k_hertz=k))
@@ -296,7 +297,7 @@ def run_flow(workdir: Path, setup: FlowSetup = QUICK_FLOW, *,
         xmax = L0 + 4.0 * (H0 + d0) + 4.0 * L0
         vref = s.vref(aspect)
         dt = s.dt(aspect)
-        settle_law = LawSpec("Ts", s.e, vref)
+        settle_law = LawSpec(Ts.name, s.e, vref)
         wd = workdir / f"column-a{aspect:g}-{seed}"
         wd.mkdir(parents=True, exist_ok=True)
         (wd / "coeffs-settle.lmp").write_text(coeff_text(
@@ -311,7 +312,7 @@ def run_flow(workdir: Path, setup: FlowSetup = QUICK_FLOW, *,
                 f"flow: building the column a = {aspect:g} (seed {seed})")) if step else None)
 
         def collapse(m: str) -> tuple[CollapseRun, int]:
-            law = LawSpec(m, s.e, vref, s.beta if m == "Jian" else None)
+            law = LawSpec(m, s.e, vref, s.beta if m == Jian.name else None)
             d = wd / f"collapse-{m}"
             d.mkdir(exist_ok=True)
             (d / "column.data").write_bytes((wd / "column.data").read_bytes())
@@ -357,11 +358,11 @@ def run_flow(workdir: Path, setup: FlowSetup = QUICK_FLOW, *,
     runs = [r for r, _ in done]
     n_part = done[-1][1] if done else 0  # grains of the last run
     # each law's e at the grain speed scale sqrt(g d0), calibrated as at the compared column
-    e_grain = {m: _e_at(LawSpec(m, s.e, s.vref(s.compare), s.beta if m == "Jian" else None),
+    e_grain = {m: _e_at(LawSpec(m, s.e, s.vref(s.compare), s.beta if m == Jian.name else None),
                         s, s.v_grain)
                for m in dict.fromkeys(r.model for r in runs if r.aspect == s.compare)}
     cmp_runs = [r for r in runs if r.aspect == s.compare]
     v_peak = float(np.mean([r.v_peak for r in cmp_runs])) if cmp_runs else math.nan
-    e_peak = {m: _e_at(LawSpec(m, s.e, s.vref(s.compare), s.beta if m == "Jian" else None), s,
+    e_peak = {m: _e_at(LawSpec(m, s.e, s.vref(s.compare), s.beta if m == Jian.name else None), s,
                        v_peak) for m in dict.fromkeys(r.model for r in cmp_runs)}
     return FlowStudy(s, runs, n_part, e_grain, v_peak, e_peak)

@@ -1,4 +1,4 @@
-"""A freely cooling granular gas (issue 12, item 1).
+"""A freely cooling granular gas (Haff 1983; Brilliantov and Poschel 2004).
 
 Smooth monodisperse spheres in a periodic box: placed at random, thermalised by elastic
 collisions (``inputs/gas_prepare.in``), then cooled by each law calibrated to the same e at the
@@ -35,12 +35,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ..dimensional import hertz_limit
-from ..laws import STUDY_MODELS
+from ..physics.pair import HERTZ_TC, hertz_limit
+from ..physics.laws import STUDY_MODELS
 from . import jobs, theory
 from .engine import (
     LawSpec, Material, coeff_text, read_dump, read_thermo, run_lammps, sim_time_ticker,
 )
+from ..physics.laws import Jian, LH, Ts
 
 __all__ = ["GasSetup", "GasRun", "GasStudy", "HaffCheck", "QUICK_GAS", "FULL_GAS", "QUICK_HAFF",
            "FULL_HAFF", "run_gas", "run_haff", "homogeneity", "haff_deviation",
@@ -103,9 +104,9 @@ class GasSetup:
     @property
     def k_hertz(self) -> float:
         """k of a pair (m* = m / 2) whose elastic contact time at v_ref is tc_ratio free times:
-        t_c = 3.218 (m* / k)^(2/5) v^(-1/5)."""
+        t_c = HERTZ_TC (m* / k)^(2/5) v^(-1/5), HERTZ_TC = 3.218."""
         tc = self.tc_ratio * self.free_time
-        return (self.mass / 2.0) * (3.2180654597 / (tc * self.vref ** 0.2)) ** 2.5
+        return (self.mass / 2.0) * (HERTZ_TC / (tc * self.vref ** 0.2)) ** 2.5
 
     @property
     def material(self) -> Material:
@@ -301,8 +302,8 @@ def restitution_of_speed(law: LawSpec, setup: GasSetup, v_min: float, v_max: flo
     evenly in ln g_n over [v_min, v_max] [m/s] and interpolated in ln g_n (held constant
     outside)."""
     from .. import dem
-    from ..dimensional import ContactPair
-    from ..sweep import velocity_sweep
+    from ..physics.pair import ContactPair
+    from ..collision.sweep import velocity_sweep
 
     dl = dem.contact_law(law.model, e=law.e, vref=law.vref, beta=law.beta)
     c0, tau = dl.physical(ContactPair.from_effective(m_eff=setup.mass / 2.0,
@@ -378,7 +379,7 @@ def _prepare(workdir: Path, s: GasSetup, np_: int, start: Callable[[], None] | N
     ``start``: see :func:`~viscontact.demstudy.engine.run_lammps`."""
     mat = s.material
     (workdir / "coeffs-elastic.lmp").write_text(
-        coeff_text(LawSpec("LH", 1.0, s.vref), mat, m_eff=s.mass / 2.0, r_eff=s.sigma / 4.0))
+        coeff_text(LawSpec(LH.name, 1.0, s.vref), mat, m_eff=s.mass / 2.0, r_eff=s.sigma / 4.0))
     pv = s.prepare_variables("coeffs-elastic.lmp", "gas-start.data")
     run_lammps("gas_prepare.in", workdir, pv, np_=np_, log="log-prepare.lammps", start=start)
     start = _read_data_xv(workdir / "gas-start.data", s.n)
@@ -392,7 +393,7 @@ def _cool(workdir: Path, s: GasSetup, model: str, np_: int,
     with T(t), and the thermo columns of its log."""
     import time
 
-    law = LawSpec(model, s.e, s.vref, s.beta if model == "Jian" else None)
+    law = LawSpec(model, s.e, s.vref, s.beta if model == Jian.name else None)
     d = workdir / f"gas-{model}"
     d.mkdir(exist_ok=True)
     (d / "coeffs.lmp").write_text(coeff_text(law, s.material, m_eff=s.mass / 2.0,
@@ -430,7 +431,7 @@ def run_haff(workdir: Path, setup: GasSetup, check: HaffCheck, *, np_: int = 1,
         label = f"gas: Haff's law, realisation {k + 1} of {check.realisations}"
         nequil, _ = _prepare(d, s, np_, start=(lambda: step(f"{label}: elastic thermalisation"))
                              if step else None)
-        run, _ = _cool(d, s, "Ts", np_, step, label)
+        run, _ = _cool(d, s, Ts.name, np_, step, label)
         mids, dev = haff_deviation(run.t, run.T, s.T0, s.tau0(), check.window)
         return mids, dev, float(nequil + run.steps) * s.n
 

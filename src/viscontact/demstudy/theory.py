@@ -1,4 +1,4 @@
-"""Theory the DEM study is checked against (SPEC section 9).
+"""Theory the DEM study is checked against.
 
 * Haff's law for a freely cooling gas of smooth spheres with a constant restitution e:
   T(t) = T0 / (1 + t / tau0)^2,
@@ -31,8 +31,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..dimensional import STANDARD_GRAVITY, check_positive, hertz_limit
-from ..laws import lookup, resolve
+from ..physics.pair import STANDARD_GRAVITY, check_positive, hertz_limit
+from ..physics.laws import lookup, resolve
 
 __all__ = [
     "enskog_g2", "haff_tau0", "haff_temperature", "collision_frequency", "damping_exponent",
@@ -238,7 +238,7 @@ def bounce_sequence(model: str, *, m: float, k_hertz: float, c: float, tau: floa
     contact is neglected.  A bounce counts when its flight reaches h_min [m]; the sequence ends
     at the first one that does not (or after n_max).
     """
-    from ..dimensional import impact
+    from ..collision.impact import impact
 
     check_positive("gravity", g)
     check_positive("h_min", h_min)

@@ -4,6 +4,7 @@
 delta_max, k_Hertz); :mod:`.fitting` fits every law by least squares (one recording, or one set
 of physical constants across several); :mod:`.plots` draws the results; :mod:`.synthetic`
 makes recordings at known parameters and ships an example (:func:`example_recording`).
+Imports the layers below it: physics, solvers, collision, calibration, paper, audit, _support.
 
     from viscontact.fit import example_recording, fit_laws, measure, read_recording
     m = measure(read_recording(example_recording()), mass=0.1547, v=1.7155)

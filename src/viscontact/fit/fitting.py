@@ -17,7 +17,7 @@ a fixed one only when it fits clearly better than noise allows.
 
 Several recordings of one ball (:func:`fit_global`): one set of physical constants
 (c, tau, k_Hertz; p for power) for all of them; alpha and beta follow at each impact speed
-from SPEC section 3, which is how the study predicts e(v), t_c(v), F_max(v).
+from the physical damping (Jian et al. 2019), which is how the study predicts e(v), t_c(v), F_max(v).
 """
 
 from __future__ import annotations
@@ -31,19 +31,20 @@ import numpy as np
 
 # scipy is imported in the functions that use it: the command line loads this module for
 # its --help, which should not pay for scipy.
-from .. import domain
-from ..calibration import alpha_from_e
-from ..domain import ALPHA_MAX
-from ..dimensional import damping_coefficient, damping_constants, damping_unit, time_scale
-from ..laws import STUDY_MODELS, lookup
-from ..sweep import SweepResult, velocity_sweep
+from ..physics import domain
+from ..calibration.inverse import alpha_from_e
+from ..physics.domain import ALPHA_MAX
+from ..physics.pair import damping_coefficient, damping_constants, damping_unit, time_scale
+from ..physics.laws import STUDY_MODELS, lookup
+from ..collision.sweep import SweepResult, velocity_sweep
 from .model import Trace, simulate
 from .recording import Measured
+from ..physics.laws import Jian, Power
 
 __all__ = ["LawFit", "GlobalFit", "fit_law", "fit_laws", "fit_global", "FIT_LAWS", "Weights"]
 
 #: the laws ``--laws all`` fits: the study's six and the general power law
-FIT_LAWS: tuple[str, ...] = (*STUDY_MODELS, "power")
+FIT_LAWS: tuple[str, ...] = (*STUDY_MODELS, Power.name)
 #: relative finite-difference steps of the Jacobian, coarse then fine (well above the
 #: solver's 1e-9 tolerance); see :func:`_least_squares`
 _DIFF_STEPS = (1e-2, 1e-5)
@@ -205,7 +206,7 @@ class LawFit:
                   "dmax", "residual", "solves", "converged"):
             v = getattr(self, k)
             d[k] = _nan_to_none(v) if isinstance(v, float) else v
-        if self.law != "power":
+        if self.law != Power.name:
             d["p"] = None  # the law's exponent is fixed, not a fitted parameter
         return d
 
@@ -349,10 +350,10 @@ def fit_laws(
     if progress is not None and not callable(progress):
         raise ValueError(f"progress must be callable, got {progress!r}")
     fits: list[LawFit] = []
-    for name in sorted(dict.fromkeys(names), key=lambda n: n == "power"):
+    for name in sorted(dict.fromkeys(names), key=lambda n: n == Power.name):
         start = None
-        fixed = [f for f in fits if f.law not in ("Jian", "power")]
-        if name == "power" and fixed:
+        fixed = [f for f in fits if f.law not in (Jian.name, Power.name)]
+        if name == Power.name and fixed:
             best = min(fixed, key=lambda f: f.bic)
             start = {"alpha": best.alpha, "p": best.p}
         fits.append(fit_law(meas, name, fit_k=fit_k, weights=weights, start=start))
@@ -405,7 +406,7 @@ class GlobalFit:
         for k in ("c", "tau", "k_hertz", "p", "c_err", "tau_err", "k_hertz_err", "p_err",
                   "c_unit", "rms", "rms_each", "bic", "t0", "solves", "converged"):
             d[k] = getattr(self, k)
-        if self.law != "power":
+        if self.law != Power.name:
             d["p"] = None
         d["points"] = self.points()
         return d

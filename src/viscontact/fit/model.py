@@ -1,7 +1,7 @@
 """Simulated force-plate traces: a law's collision, placed on a recording's time axis.
 
 The collision comes from the public solver (:func:`viscontact.collide`, whose force history
-is evaluated by the kernels) and is scaled to SI by :func:`viscontact.dimensional.to_physical`.
+is evaluated by the kernels) and is scaled to SI by :func:`viscontact.collision.impact.to_physical`.
 Outside the contact the trace is ballistic: before the start t0 the ball approaches at v_i
 (delta = v_i (t - t0) < 0, F = 0); after the zero-force end it leaves with the rebound speed
 (F = 0).  The non-dimensional solve depends on (law, alpha, beta, p) only, so it is cached:
@@ -15,8 +15,9 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..collision import CollisionResult, collide
-from ..dimensional import ImpactResult, damping_coefficient, time_scale, to_physical
+from ..collision.single import CollisionResult, collide
+from ..collision.impact import ImpactResult, to_physical
+from ..physics.pair import damping_coefficient, time_scale
 
 __all__ = ["Trace", "simulate", "FIT_RTOL"]
 

@@ -3,7 +3,7 @@
 :func:`plot_fit` draws one recording against every fitted law like the study's Figs. 8-9
 (delta, delta', F against t, and the F-delta loop); :func:`plot_global` draws measured and
 predicted e, t_c, F_max against the impact speed like Figs. 10-12.  Laws keep their colours
-(:data:`viscontact.plotting.LAW_COLORS`); measurements are black.
+(:data:`viscontact.collision.plots.LAW_COLORS`); measurements are black.
 """
 
 from __future__ import annotations
@@ -11,8 +11,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from ..plotting import LAW_COLORS, LAW_MARKERS, plt
-from ..report.figures import MEASURED
+from matplotlib.figure import Figure
+
+from ..collision.plots import LAW_COLORS, LAW_MARKERS
+from ..paper.figures import MEASURED
 from .fitting import GlobalFit, LawFit
 from .recording import Measured
 
@@ -23,7 +25,8 @@ _DATA = dict(color="black", marker=".", ms=3, ls="none", label="recording", zord
 
 def plot_fit(meas: Measured, fits: Sequence[LawFit], path: str | Path) -> Path:
     """delta, delta', F against t [ms] and F against delta: the recording and each fitted law."""
-    fig, axes = plt.subplots(2, 2, figsize=(11, 8))
+    fig = Figure(figsize=(11, 8))
+    axes = fig.subplots(2, 2)
     (ax_d, ax_v), (ax_f, ax_loop) = axes
     t_ms = (meas.t - meas.t_start) * 1e3
     ax_d.plot(t_ms, meas.overlap * 1e3, **_DATA)
@@ -58,13 +61,13 @@ def plot_fit(meas: Measured, fits: Sequence[LawFit], path: str | Path) -> Path:
     fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=110)
-    plt.close(fig)
     return path
 
 
 def plot_global(fits: Sequence[GlobalFit], path: str | Path) -> Path:
     """e, t_c [ms], F_max [N] against v_i [cm/s]: measured (stars), each law's global fit."""
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.8))
+    fig = Figure(figsize=(15, 4.8))
+    axes = fig.subplots(1, 3)
     specs = (("e", 1.0, "coefficient of restitution e"), ("tc", 1e3, "contact time t_c [ms]"),
              ("fmax", 1.0, "peak force F_max [N]"))
     for ax, (key, scale, label) in zip(axes, specs):
@@ -87,5 +90,4 @@ def plot_global(fits: Sequence[GlobalFit], path: str | Path) -> Path:
     fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=110)
-    plt.close(fig)
     return path

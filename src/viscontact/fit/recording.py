@@ -1,13 +1,13 @@
 """Force-plate recordings: reading them, and what they say before any fit.
 
 A recording is a table of time and contact force (CSV or whitespace-separated text).  As in
-the drop tests of SPEC section 7 the ball's overlap obeys m* delta'' = -F (no gravity during
+the drop tests of Jian et al. 2019 (lacrosse balls on a force plate) the ball's overlap obeys m* delta'' = -F (no gravity during
 the contact), so with the impact speed v_i known
 
     delta'(t) = v_i - (1/m*) int_{t_s}^t F dt,      delta(t) = int_{t_s}^t delta' dt
 
 from the contact start t_s.  e = -delta'(t_e) / v_i; at maximum overlap delta' = 0, so the
-damping force vanishes there and k_Hertz = F(t_dmax) / delta_max^(3/2) (SPEC section 7).
+damping force vanishes there and k_Hertz = F(t_dmax) / delta_max^(3/2) (Jian et al. 2019).
 
 Units inside are SI (s, N, m, kg); the file's units come from its header (``time [ms]``,
 ``force_kN``) or from the caller.  Every problem with a file raises :class:`RecordingError`
@@ -26,8 +26,8 @@ import numpy as np
 
 # scipy is imported in the functions that use it: the command line loads this module for
 # its --help, which should not pay for scipy.
-from .. import domain
-from ..dimensional import _mass
+from ..physics import domain
+from ..physics.pair import _mass
 
 __all__ = [
     "Recording", "Measured", "RecordingError", "read_recording", "measure", "TIME_UNITS",

@@ -7,7 +7,7 @@ between two samples.  Tests fit these and compare with the truth.
 
 ``python3 scripts/make_example_recording.py`` rewrites the example recording that ships with the
 package (:func:`example_recording`): the Jian law at the indoor lacrosse ball's parameters
-(SPEC section 7: m* = 154.7 g, k_Hertz = 1.688e6 N/m^1.5, a 15 cm drop, e = 0.463 with
+(Jian et al. 2019, the indoor lacrosse ball: m* = 154.7 g, k_Hertz = 1.688e6 N/m^1.5, a 15 cm drop, e = 0.463 with
 beta = 0.5), 50 kHz, 1 % noise, a 3.2 N offset, 1 ms before and after the contact.
 """
 
@@ -20,10 +20,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..calibration import alpha_from_e
-from ..dimensional import ImpactResult, damping_coefficient, drop_speed, impact, time_scale
-from ..experiment import ball
+from ..calibration.inverse import alpha_from_e
+from ..collision.impact import ImpactResult, impact
+from ..physics.pair import damping_coefficient, drop_speed, time_scale
+from ..paper.experiment import ball
 from .model import Trace
+from ..physics.laws import Jian
 
 __all__ = ["SyntheticRecording", "synthetic_recording", "write_recording", "example_recording",
            "EXAMPLE_FILE", "EXAMPLE"]
@@ -81,7 +83,7 @@ def example_recording() -> Path:
 
 
 #: how the example was made: law, ball, drop height [m], rate [Hz], noise, offset [N], seed
-EXAMPLE = dict(model="Jian", ball="ILB", drop_height=0.15, rate=50e3, noise=0.01, offset=3.2,
+EXAMPLE = dict(model=Jian.name, ball="ILB", drop_height=0.15, rate=50e3, noise=0.01, offset=3.2,
                seed=2019)
 
 

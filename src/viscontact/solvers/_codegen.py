@@ -54,7 +54,7 @@ def source() -> str:
         "import numba",
         "from scipy.integrate._ivp import dop853_coefficients as _dop853",
         "",
-        "from ..kernels import force_s, force_s_int, rhs_sigma, rhs_sigma_int",
+        "from ..physics.kernels import force_s, force_s_int, rhs_sigma, rhs_sigma_int",
         "",
         f"SLOTS = {SLOTS}",
     ]

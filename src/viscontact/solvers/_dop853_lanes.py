@@ -9,7 +9,7 @@ import math
 import numba
 from scipy.integrate._ivp import dop853_coefficients as _dop853
 
-from ..kernels import force_s, force_s_int, rhs_sigma, rhs_sigma_int
+from ..physics.kernels import force_s, force_s_int, rhs_sigma, rhs_sigma_int
 
 SLOTS = 128
 S0 = 0

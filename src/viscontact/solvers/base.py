@@ -7,9 +7,9 @@ from typing import Callable, Protocol
 
 import numpy as np
 
-from ..laws import LawParams
+from ..physics.laws import LawParams
 
-#: The two end-of-contact criteria (SPEC section 4).
+#: The two end-of-contact criteria: zero force, or zero overlap (Jian et al. 2019).
 END_CRITERIA: tuple[str, ...] = ("force", "overlap")
 #: A contact still going at this non-dimensional time is reported as not separating.
 T_MAX: float = 1000.0
@@ -28,7 +28,7 @@ def force_end_is_overlap_end(lp: LawParams) -> bool:
 
 @dataclass
 class Contact:
-    """Raw outcome of one non-dimensional collision (SPEC section 5).
+    """Raw outcome of one non-dimensional collision: e, t_c, peak force and overlap, residual, dissipation.
 
     All quantities non-dimensional: time in T, overlap in T v_i, speed in v_i,
     force in m* v_i / T, energy in m* v_i^2.
@@ -49,7 +49,7 @@ class Contact:
 class SolveFn(Protocol):
     """Contract for a solver.
 
-    1. Integrate x'' = -F(x, x', t) from x = 0, x' = 1 with F from :mod:`viscontact.kernels`.
+    1. Integrate x'' = -F(x, x', t) from x = 0, x' = 1 with F from :mod:`viscontact.physics.kernels`.
     2. Stop at the first zero of F (``end="force"``) or of x (``end="overlap"``) after the
        start; if neither happens before t = T_MAX, return ``separated=False, e=0, tc=inf``.
     3. With ``detail=True`` also fill xmax, t_xmax, fmax, t_fmax and the histories

@@ -1,7 +1,7 @@
 """Batch solver: many collisions at once, compiled, on every core.
 
 Same equations as the reference solver (the regularised sigma-time system of
-:mod:`viscontact.kernels`: x = s^m, dt = m s^(m-1) dsigma, polynomial in s for m p
+:mod:`viscontact.physics.kernels`: x = s^m, dt = m s^(m-1) dsigma, polynomial in s for m p
 integral) and the same end criteria, but no histories and no Python per collision:
 
 - the batch is cut into chunks that a pool of threads shares (``numba.get_num_threads()``
@@ -18,15 +18,15 @@ integral) and the same end criteria, but no histories and no Python per collisio
   second vectorised loop (:func:`_accept_lanes`); only lanes whose step crosses an end of
   contact are handled one by one;
 - with m p an integer (every named law, and ``power`` with p a multiple of 1/8) the
-  right-hand side is :func:`viscontact.kernels.rhs_sigma_int`: straight-line code, no
+  right-hand side is :func:`viscontact.physics.kernels.rhs_sigma_int`: straight-line code, no
   library calls (the relaxation factor of Jian from a table and a short series);
-  otherwise the general :func:`viscontact.kernels.rhs_sigma` (|s|^k by pow), slower;
+  otherwise the general :func:`viscontact.physics.kernels.rhs_sigma` (|s|^k by pow), slower;
 - each shape of the equations (m, m p, whether some beta > 0, whether W is wanted) is
   compiled once with these as constants (:func:`_make_solver`): the integer powers fold
   to a few multiplications and an unused W (``dissipated=False``, as ``restitution``
   asks) costs nothing;
 - the end of contact is an event g(y) = min(s, zero-force gap
-  (:func:`viscontact.kernels.end_force_event`, zero-force end only), T_MAX - t)
+  (:func:`viscontact.physics.kernels.end_force_event`, zero-force end only), T_MAX - t)
   crossing zero from above; a step that crosses is not taken but shortened to the
   crossing by safeguarded Newton iterations on its length (first guess: the root of the
   cubic Hermite interpolant of the ending event over the step; slope of g along the
@@ -53,8 +53,8 @@ import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..kernels import INT_POW_LIMIT, end_force_event, rhs_sigma
-from ..laws import LawParams
+from ..physics.kernels import INT_POW_LIMIT, end_force_event, rhs_sigma
+from ..physics.laws import LawParams
 from . import _dop853_lanes as L
 from ._dop853_lanes import SLOTS as _SLOTS
 from ._dop853_lanes import dop853_lanes
@@ -449,7 +449,7 @@ def solve_batch(
             raise ValueError(
                 f"alpha = {a[over[0]]:g} (beta = {b[over[0]]:g}) damps so strongly that the "
                 f"solver gave up after {_MAX_STEPS} steps; alpha in [0, 1000] is supported "
-                "(viscontact.domain)")
+                "(viscontact.physics.domain)")
     return BatchResult(*(x.reshape(shape) for x in (e, tc, res, w, sep)))
 
 

@@ -1,6 +1,6 @@
 """Reference solver: scipy's DOP853 on the regularised sigma-time equations.
 
-The substitution x = s^m, dt = m s^(m-1) dsigma (see :mod:`viscontact.kernels`) makes the
+The substitution x = s^m, dt = m s^(m-1) dsigma (see :mod:`viscontact.physics.kernels`) makes the
 right-hand side polynomial, so an 8th-order Runge-Kutta method keeps its order through
 the start (x = 0) and the end of contact; the end is an event located on the dense
 output by a bracketing root finder (scipy), which stays exact where the force returns
@@ -19,12 +19,12 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 
-from ..kernels_py import python_kernels
-from ..laws import LawParams
+from ..physics.kernels_py import python_kernels
+from ..physics.laws import LawParams
 from .base import DEFAULT_RTOL, T_MAX, Contact, force_end_is_overlap_end
 
 _HISTORY_POINTS = 801  # samples in each history, uniform in t
-_PACKAGE = __package__.rpartition(".")[0]  # viscontact
+_KERNELS = __package__.rpartition(".")[0] + ".physics.kernels"  # the compiled kernels
 #: solves in plain Python before this process loads the compiled kernels: numba's start-up
 #: (about 0.5 s) is what 20 to 50 solves lose in plain Python (10 to 25 ms each)
 PLAIN_SOLVES = 8
@@ -44,19 +44,19 @@ def _event(fn, terminal: bool, direction: float):
 
 
 def kernels() -> types.ModuleType:
-    """The kernels for the next solve: :mod:`viscontact.kernels` (compiled) once this process
+    """The kernels for the next solve: :mod:`viscontact.physics.kernels` (compiled) once this process
     has loaded it or has solved :data:`PLAIN_SOLVES` collisions, else the same functions as
-    plain Python (:mod:`viscontact.kernels_py`).
+    plain Python (:mod:`viscontact.physics.kernels_py`).
 
     A process that solves a few collisions (``viscontact collide``) then skips numba's
     start-up; the numbers are the same either way (tested).
     """
-    compiled = sys.modules.get(f"{_PACKAGE}.kernels")
+    compiled = sys.modules.get(_KERNELS)
     if compiled is not None:
         return compiled
     if next(_solve_count) < PLAIN_SOLVES:
         return python_kernels()
-    return importlib.import_module(f"{_PACKAGE}.kernels")
+    return importlib.import_module(_KERNELS)
 
 
 def solve_reference(

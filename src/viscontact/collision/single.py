@@ -1,6 +1,7 @@
 """One collision, non-dimensional: :func:`collide` and its result.
 
-SPEC sections 2, 4, 5.  Units: time in T, overlap in T v_i, speed in v_i, force in
+Jian et al., Powder Technol. 356 (2019) 735 (the non-dimensional law, the two end criteria
+and the outputs).  Units: time in T, overlap in T v_i, speed in v_i, force in
 m* v_i / T, energy in m* v_i^2 (T = (m*^2 / (k_Hertz^2 v_i))^(1/5)).
 """
 
@@ -12,9 +13,9 @@ from typing import Any
 
 import numpy as np
 
-from . import domain
-from .laws import LawParams, resolve
-from .solvers import END_CRITERIA, SOLVERS
+from ..physics import domain
+from ..physics.laws import LawParams, resolve
+from ..solvers import END_CRITERIA, SOLVERS
 
 __all__ = ["CollisionResult", "collide", "check_end", "result_dict", "solver_for"]
 
@@ -72,7 +73,8 @@ class CollisionResult:
 
     @property
     def energy_error(self) -> float:
-        """Energy balance 1/2 - e^2/2 - (2/5) x(t_c)^(5/2) - dissipated (SPEC section 5); ~0."""
+        """Energy balance 1/2 - e^2/2 - (2/5) x(t_c)^(5/2) - dissipated; ~0 (energy conservation of the
+        damped oscillator)."""
         return 0.5 - 0.5 * self.e**2 - 0.4 * self.residual**2.5 - self.dissipated
 
     def to_dict(self, histories: bool = False) -> dict[str, Any]:
@@ -121,15 +123,15 @@ def collide(
 ) -> CollisionResult:
     """Solve one normal collision exactly (to the solver tolerance).
 
-    Solves x'' + x^(3/2) + alpha g(t) x^p x' = 0, x(0) = 0, x'(0) = 1 (SPEC section 2)
-    until the force (``end="force"``, default) or the overlap (``end="overlap"``) returns
+    Solves x'' + x^(3/2) + alpha g(t) x^p x' = 0, x(0) = 0, x'(0) = 1 (the non-dimensional
+    form of Jian et al. 2019) until the force (``end="force"``, default) or the overlap (``end="overlap"``) returns
     to zero.  ``history=False`` skips peak force, peak overlap and histories and uses the
-    compiled batch solver (:func:`viscontact.solvers.solve_batch`).  ``rtol`` is the
+    compiled batch solver (:func:`viscontact.solvers.batch.solve_batch`).  ``rtol`` is the
     integrator's relative tolerance; by default 1e-12 with histories (e to about 1e-11) and
     the batch solver's ``BATCH_RTOL`` without (e to about 1e-9).
 
     Raises ValueError for an unknown model, alpha, beta, p or rtol outside their domain
-    (:mod:`viscontact.domain`: alpha in [0, 1000], beta in [0, 1000], p in [0, 10], rtol in
+    (:mod:`viscontact.physics.domain`: alpha in [0, 1000], beta in [0, 1000], p in [0, 10], rtol in
     [1e-13, 1e-5]), beta given to a law without one, or p missing for ``power``.
     """
     lp = resolve(model, beta=beta, p=p)

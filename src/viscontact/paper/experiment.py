@@ -1,6 +1,6 @@
 """The lacrosse-ball drop tests as data, and the study's calibration workflow.
 
-SPEC section 7.  The measurements ship in ``data/lacrosse_balls.csv`` (published units, with
+Jian et al., Powder Technol. 356 (2019) 735.  The measurements ship in ``data/lacrosse_balls.csv`` (published units, with
 a ``# source:`` line); :func:`load_balls` converts them to SI.  The workflow for one ball
 (:func:`calibrate_ball`): compute T; for each law find alpha from the measured e (Jian with
 its beta); tau = beta T; c from the law's dimensional form.
@@ -14,13 +14,13 @@ from functools import lru_cache
 from importlib import resources
 from typing import Any
 
-from . import domain
-from .calibration import alpha_from_e
-from .collision import check_end
-from .dimensional import (
+from ..physics import domain
+from ..calibration.inverse import alpha_from_e
+from ..collision.single import check_end
+from ..physics.pair import (
     damping_coefficient, damping_unit, time_scale,
 )
-from .laws import STUDY_MODELS, lookup, resolve
+from ..physics.laws import STUDY_MODELS, lookup, resolve
 
 __all__ = [
     "Ball", "PhysicalCalibration", "load_balls", "ball", "data_source", "calibrate_physical",
@@ -145,7 +145,7 @@ def calibrate_physical(
 ) -> PhysicalCalibration:
     """The study's workflow for one law: T, alpha from e (Jian: at ``beta``), tau = beta T, c.
 
-    Every number must lie in its domain (:mod:`viscontact.domain`), else ValueError."""
+    Every number must lie in its domain (:mod:`viscontact.physics.domain`), else ValueError."""
     check_end(end)
     lp = resolve(model, beta=beta, p=p)
     e = domain.check("e", e)

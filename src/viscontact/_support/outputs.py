@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
 import re
 import shutil
@@ -56,7 +57,8 @@ from pathlib import Path
 from typing import Any
 
 __all__ = ["OutputError", "MANIFEST", "LEGACY_MANIFESTS", "PNG_KEY", "OutputDir", "check_file",
-           "write_png", "write_text", "write_json", "written_by", "read_manifest", "text_marker"]
+           "write_png", "write_text", "write_json", "written_by", "read_manifest", "text_marker",
+           "finite_json"]
 
 MANIFEST = ".viscontact-output.json"
 LEGACY_MANIFESTS = {".viscontact-report": "reproduce"}
@@ -71,12 +73,23 @@ _LAMMPS_LOG = "LAMMPS ("
 _LAMMPS_ECHO_LINES = 12
 
 
+def finite_json(obj: Any) -> Any:
+    """Replace non-finite floats by None so the output is strict JSON."""
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    if isinstance(obj, dict):
+        return {k: finite_json(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [finite_json(v) for v in obj]
+    return obj
+
+
 class OutputError(ValueError):
     """An output path that must not or cannot be written (the message says what to do)."""
 
 
 def _version() -> str:
-    from . import __version__
+    from .._version import __version__
 
     return __version__
 

@@ -1,75 +1,40 @@
-"""Plots. Reads results only; never solves anything itself."""
+"""Figures of collisions and sweeps, and each law's colour and marker in every figure.
+
+Reads results only; never solves anything itself.  Figures are bare
+:class:`~matplotlib.figure.Figure` objects (``savefig`` renders with Agg by itself), so the
+matplotlib backend of whoever imports viscontact is never changed."""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
 
-import matplotlib
-import matplotlib.cm
-import matplotlib.colors
 from matplotlib.figure import Figure
 
-from .collision import CollisionResult
+from ..physics.laws import MODELS, lookup
+from .single import CollisionResult
 
 
-class _Headless:
-    """The few ``pyplot`` calls the figures use, on bare :class:`~matplotlib.figure.Figure`
-    objects: ``Figure.savefig`` renders with Agg by itself, so no backend is chosen and the
-    backend of whoever imports viscontact stays as it is (no GUI window is ever opened)."""
-
-    Normalize = matplotlib.colors.Normalize
-    cm = matplotlib.cm
-
-    @staticmethod
-    def figure(**kwargs) -> Figure:
-        return Figure(**kwargs)
-
-    @staticmethod
-    def subplots(nrows: int = 1, ncols: int = 1, **kwargs):
-        grid = ("sharex", "sharey", "squeeze", "width_ratios", "height_ratios", "subplot_kw",
-                "gridspec_kw")
-        fig = Figure(**{k: v for k, v in kwargs.items() if k not in grid})
-        return fig, fig.subplots(nrows, ncols, **{k: v for k, v in kwargs.items() if k in grid})
-
-    @staticmethod
-    def close(fig: Figure) -> None:
-        """Nothing to release: a bare Figure is not registered anywhere (pyplot's twin)."""
-
-    @staticmethod
-    def get_cmap(name: str):
-        return matplotlib.colormaps[name]
-
-    @staticmethod
-    def colorbar(mappable, ax, **kwargs):
-        return ax.figure.colorbar(mappable, ax=ax, **kwargs)
-
-
-#: Stands in for ``matplotlib.pyplot`` in the figure modules (see :class:`_Headless`).
-plt = _Headless()
-
-#: One colour per law, the same in every figure.
-LAW_COLORS = {
-    "LH": "#1f77b4", "Ts": "#ff7f0e", "KK": "#2ca02c", "Li": "#d62728",
-    "Hunt": "#9467bd", "Jian": "#8c564b", "power": "#7f7f7f",
-}
+#: One colour per law, the same in every figure (matplotlib's tab10 cycle, in registry order).
+LAW_COLORS: dict[str, str] = dict(zip(MODELS, (
+    "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#7f7f7f")))
 
 #: One marker per law, for curves that lie close together (sweeps, e against alpha).
-LAW_MARKERS = {"LH": "o", "Ts": "s", "KK": "^", "Li": "v", "Hunt": "D", "Jian": "P", "power": "x"}
+LAW_MARKERS: dict[str, str] = dict(zip(MODELS, ("o", "s", "^", "v", "D", "P", "x")))
 
 
 def law_label(r: CollisionResult) -> str:
     label = r.model
     if r.beta is not None:
         label += f", beta={r.beta:g}"
-    if r.model == "power":
+    if lookup(r.model).p is None:  # the exponent is the user's
         label += f", p={r.p:g}"
     return f"{label}, alpha={r.alpha:g}"
 
 
 def collision_axes(fig=None):
     """A 2x2 grid: x, x', F^ against t^, and the F^-x loop, labelled."""
-    fig = fig or plt.figure(figsize=(10, 7.5))
+    fig = fig or Figure(figsize=(10, 7.5))
     axes = fig.subplots(2, 2)
     (ax_x, ax_v), (ax_f, ax_loop) = axes
     ax_x.set(xlabel="t^ = t / T", ylabel="x = delta / (T v_i)", title="overlap")
@@ -104,7 +69,6 @@ def plot_collision(results: Sequence[CollisionResult], path: str | Path, title: 
     fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=120)
-    plt.close(fig)
     return path
 
 
@@ -112,15 +76,16 @@ def plot_sweeps(sweeps: Sequence, path: str | Path, title: str | None = None,
                 measured: tuple[float, float, float] | None = None) -> Path:
     """e, t_c [ms] and F_max [N] against impact speed [cm/s] for one or more velocity sweeps.
 
-    ``sweeps``: :class:`viscontact.sweep.SweepResult` objects; ``measured``: optional
+    ``sweeps``: :class:`viscontact.collision.sweep.SweepResult` objects; ``measured``: optional
     (v [m/s], e, t_c [s]) drawn as black stars.
     """
-    fig, axes = plt.subplots(1, 3, figsize=(14, 4.8))
+    fig = Figure(figsize=(14, 4.8))
+    axes = fig.subplots(1, 3)
     specs = (("e", 1.0, "coefficient of restitution e"), ("tc", 1e3, "contact time t_c [ms]"),
              ("fmax", 1.0, "peak force F_max [N]"))
     for ax, (attr, scale, label) in zip(axes, specs):
         for s in sweeps:
-            lab = s.model + (f", p={s.p:g}" if s.model == "power" else "")
+            lab = s.model + (f", p={s.p:g}" if lookup(s.model).p is None else "")
             ax.plot(s.v * 100, getattr(s, attr) * scale, "-o", ms=3, color=LAW_COLORS.get(s.model),
                     label=lab)
         ax.set(xlabel="impact speed v_i [cm/s]", ylabel=label)
@@ -134,5 +99,4 @@ def plot_sweeps(sweeps: Sequence, path: str | Path, title: str | None = None,
     fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=110)
-    plt.close(fig)
     return path

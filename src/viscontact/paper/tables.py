@@ -1,100 +1,18 @@
-"""The study's tables built from :class:`viscontact.study.StudyResults` (reads results only).
+"""The study's tables built from :class:`viscontact.paper.study.StudyResults` (reads results only).
 
-A :class:`Table` holds raw values plus how to print them, so the CSV (full precision, SI),
-the Markdown and the HTML versions come from one place.
+Each is a :class:`viscontact._support.report.Table`: raw values plus how to print them.
 """
 
 from __future__ import annotations
 
-import csv
-import html
-import io
 import math
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 from typing import Any
 
-from ..study import BETA_GRID, TABLE1_MODELS, StudyResults
+from .._support.report import Column, Table, fixed as _fixed, scaled as _scaled, sig as _sig
+from .._support.report import text as _text
+from .study import BETA_GRID, TABLE1_MODELS, StudyResults
 
 __all__ = ["Table", "table1", "table2", "table4", "comparison", "all_tables", "beta_header"]
-
-Fmt = Callable[[Any], str]
-
-
-def _missing(x: Any) -> bool:
-    """No value to print: None, or a float that is not finite."""
-    return x is None or (isinstance(x, float) and not math.isfinite(x))
-
-
-def _fixed(n: int) -> Fmt:
-    return lambda x: "" if _missing(x) else f"{x:.{n}f}"
-
-
-def _sig(n: int) -> Fmt:
-    return lambda x: "" if _missing(x) else f"{x:.{n}g}"
-
-
-def _text(x: Any) -> str:
-    return "" if x is None else str(x)
-
-
-def _scaled(factor: float, n: int) -> Fmt:
-    return lambda x: "" if x is None else f"{x * factor:.{n}f}"
-
-
-@dataclass
-class Column:
-    """One column: CSV header and printer (machine, SI), Markdown/HTML header and printer."""
-
-    csv_head: str
-    csv_fmt: Fmt
-    head: str
-    fmt: Fmt
-
-    @property
-    def is_text(self) -> bool:
-        return self.fmt is _text
-
-
-@dataclass
-class Table:
-    """A table: file stem, title, caption, columns and rows of raw values."""
-
-    stem: str
-    title: str
-    caption: str
-    columns: Sequence[Column]
-    rows: list[list[Any]]
-
-    def to_csv(self) -> str:
-        buf = io.StringIO()
-        w = csv.writer(buf, lineterminator="\n")
-        w.writerow([c.csv_head for c in self.columns])
-        for row in self.rows:
-            w.writerow([c.csv_fmt(x) for c, x in zip(self.columns, row)])
-        return buf.getvalue()
-
-    def to_markdown(self) -> str:
-        lines = [f"**{self.title}.** {self.caption}", "",
-                 "| " + " | ".join(c.head for c in self.columns) + " |",
-                 "|" + "|".join("---" if c.is_text else "---:" for c in self.columns) + "|"]
-        for row in self.rows:
-            lines.append("| " + " | ".join(c.fmt(x) for c, x in zip(self.columns, row)) + " |")
-        return "\n".join(lines) + "\n"
-
-    def to_html(self) -> str:
-        e = html.escape
-        out = [f'<table id="{e(self.stem)}">',
-               f"<caption><b>{e(self.title)}.</b> {e(self.caption)}</caption>", "<thead><tr>"]
-        out += [f"<th>{e(c.head)}</th>" for c in self.columns]
-        out.append("</tr></thead><tbody>")
-        for row in self.rows:
-            out.append("<tr>" + "".join(
-                f'<td class="{"t" if c.is_text else "n"}">{e(c.fmt(x))}</td>'
-                for c, x in zip(self.columns, row)) + "</tr>")
-        out.append("</tbody></table>")
-        return "\n".join(out)
-
 
 def beta_header(beta: float) -> str:
     """Column head of Table 2: ``beta=<value>``."""

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import domain
-from .collision import check_end
-from .domain import ALPHA_MAX
-from .laws import LawParams, resolve
+from ..physics import domain
+from ..collision.single import check_end
+from ..physics.domain import ALPHA_MAX
+from ..physics.laws import LawParams, resolve
 
 # The tables and the batch solver (numba) are imported where they are used, so that importing
 # this module (the command line does) does not load the compiler.
@@ -44,7 +44,7 @@ def _valid_e(e: np.ndarray) -> np.ndarray:
 
 
 def _e_of(lp: LawParams, alpha: np.ndarray, beta: np.ndarray | None, end: str) -> np.ndarray:
-    from .solvers.batch import solve_batch
+    from ..solvers.batch import solve_batch
 
     return solve_batch(lp, alpha, end, beta=beta, dissipated=False).e
 
@@ -56,14 +56,14 @@ def restitution(
     """Coefficient of restitution e = -x'(t_c) for each alpha (and beta, Jian).
 
     Broadcasts ``alpha`` against ``beta``; returns a float for scalar input, else an
-    array of the broadcast shape.  Accuracy |e - exact| <= 1e-8 (SPEC sections 2-5);
-    solved by the compiled batch solver (:func:`viscontact.solvers.solve_batch`).
+    array of the broadcast shape.  Accuracy |e - exact| <= 1e-8 (against the exact solver);
+    solved by the compiled batch solver (:func:`viscontact.solvers.batch.solve_batch`).
     A zero-overlap contact that never separates gives e = 0.  e lies in [0, 1]; alpha = 0
     gives exactly 1.
 
     Inside alpha, beta in [0, 10] every law but ``power`` answers from a precomputed table
     (:mod:`viscontact.tables`, |e - exact| <= 1e-10); ``exact=True`` always solves.
-    alpha, beta and p must lie in their domain (:mod:`viscontact.domain`: [0, 1000],
+    alpha, beta and p must lie in their domain (:mod:`viscontact.physics.domain`: [0, 1000],
     [0, 1000], [0, 10]), else ValueError.
     """
     from . import tables
@@ -147,7 +147,7 @@ def alpha_from_e(
     """The damping constant alpha >= 0 that gives restitution ``e`` (inverse of :func:`restitution`).
 
     Broadcasts ``e`` against ``beta``.  |restitution(alpha_from_e(e)) - e| <= 1e-9; e = 1
-    gives 0.  Raises ValueError for e outside [1e-6, 1] (:data:`viscontact.domain.E_MIN`:
+    gives 0.  Raises ValueError for e outside [1e-6, 1] (:data:`viscontact.physics.domain.E_MIN`:
     below it the zero-overlap end gives up at T_MAX before the contact separates), NaN, an e
     the law cannot reach with alpha <= 1000, or beta, p outside their domain.
     Every element is solved at once: batch solves of the whole array per iteration.

@@ -1,6 +1,6 @@
-"""The study's figures 2 to 12 (SPEC section 8), drawn from a :class:`StudyResults`.
+"""The study's figures 2 to 12 (Jian et al., Powder Technol. 356 (2019) 735), drawn from a :class:`StudyResults`.
 
-Reads results only.  Every law keeps its colour from :data:`viscontact.plotting.LAW_COLORS`
+Reads results only.  Every law keeps its colour from :data:`viscontact.collision.plots.LAW_COLORS`
 in every figure; several curves of one law (several alpha or beta) are shades of that colour.
 Measured values are drawn in black.
 """
@@ -13,13 +13,15 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib import colors as mcolors
+from matplotlib.figure import Figure
 
-from ..laws import LAWS, STUDY_MODELS
-from ..parallel import forked_map
-from ..plotting import LAW_COLORS, LAW_MARKERS, plt
-from ..study import (
+from ..physics.laws import LAWS, STUDY_MODELS
+from .._support.parallel import forked_map
+from ..collision.plots import LAW_COLORS, LAW_MARKERS
+from .study import (
     ALPHA_REF, BETA_GRID, BETA_REF, PUBLISHED_E, TABLE1_MODELS, BallStudy, StudyResults,
 )
+from ..physics.laws import Jian
 
 __all__ = ["FIGURES", "write_figures", "law_name", "shades"]
 
@@ -29,7 +31,7 @@ _T_HAT, _X_HAT = "t^ = t / T", "x = delta / (T v_i)"
 _V_HAT, _F_HAT = "x' = delta' / v_i", "F^ = F T / (m* v_i)"
 
 
-_FULL_NAMES = {"Jian": "Jian et al., relaxation time"}
+_FULL_NAMES = {Jian.name: "Jian et al., relaxation time"}
 
 
 def law_name(model: str) -> str:
@@ -57,7 +59,8 @@ def _grid(ax) -> None:
 
 
 def _four_panels(title: str):
-    fig, axes = plt.subplots(2, 2, figsize=(11, 8))
+    fig = Figure(figsize=(11, 8))
+    axes = fig.subplots(2, 2)
     for ax in axes.ravel():
         _grid(ax)
     fig.suptitle(title, fontsize=12)
@@ -92,7 +95,6 @@ def _finish(fig, path: Path, legend_handles=None, ncol=3, rect_bottom=0.0) -> No
         fig.legend(handles, labels, loc="lower center", ncol=ncol, fontsize=9, frameon=False)
     fig.tight_layout(rect=(0, rect_bottom, 1, 0.97))
     fig.savefig(path, dpi=DPI)
-    plt.close(fig)
 
 
 def fig02(res: StudyResults, path: Path) -> None:
@@ -110,7 +112,8 @@ def _series_figure(res: StudyResults, path: Path, what: str) -> None:
         "x": (3, "overlap", _X_HAT), "v": (4, "overlap rate", _V_HAT),
         "f": (5, "contact force", _F_HAT),
     }[what]
-    fig, axes = plt.subplots(2, 3, figsize=(13, 7.5), sharex=True, sharey=True)
+    fig = Figure(figsize=(13, 7.5))
+    axes = fig.subplots(2, 3, sharex=True, sharey=True)
     for ax, m in zip(axes.ravel(), STUDY_MODELS):
         series = res.series[m]
         cols = shades(m, len(series) - 1)
@@ -121,7 +124,7 @@ def _series_figure(res: StudyResults, path: Path, what: str) -> None:
             else:
                 ax.plot(r.t, getattr(r, what), color=cols.pop(0), lw=1.6,
                         label=f"alpha = {r.alpha:g}, e = {r.e:.3f}")
-        title = law_name(m) + (f", beta = {BETA_REF:g}" if m == "Jian" else "")
+        title = law_name(m) + (f", beta = {BETA_REF:g}" if m == Jian.name else "")
         ax.set_title(title, color=LAW_COLORS[m], fontsize=11, fontweight="bold")
         _grid(ax)
         ax.legend(fontsize=7.5, loc={"x": "lower center", "v": "lower left", "f": "upper right"}[what])
@@ -154,7 +157,7 @@ def fig06(res: StudyResults, path: Path) -> None:
     labels = [("beta -> 0 (= KK)" if r.beta == 0 else f"beta = {r.beta:g}") +
               f": e = {r.e:.4f}, t_c = {r.tc:.3f}" for r in rs]
     styles = ["-", "--", "-.", ":"][: len(rs)]
-    _nondim_panels(axes, rs, shades("Jian", len(rs)), labels, styles)
+    _nondim_panels(axes, rs, shades(Jian.name, len(rs)), labels, styles)
     _finish(fig, path, axes[0, 0].get_legend_handles_labels(), ncol=2, rect_bottom=0.08)
 
 
@@ -166,12 +169,13 @@ def _measured_e_lines(ax, res: StudyResults) -> None:
 
 
 def fig07(res: StudyResults, path: Path) -> None:
-    fig, (ax_a, ax_b) = plt.subplots(1, 2, figsize=(14.5, 5.5), sharey=True)
+    fig = Figure(figsize=(14.5, 5.5))
+    (ax_a, ax_b) = fig.subplots(1, 2, sharey=True)
     a = res.alpha_grid
     for m in TABLE1_MODELS:
         ax_a.plot(a, res.table1[m], "-", marker=LAW_MARKERS[m], ms=3.5, color=LAW_COLORS[m],
                   label=law_name(m))
-    cols = shades("Jian", len(BETA_GRID))
+    cols = shades(Jian.name, len(BETA_GRID))
     for b, c in zip(BETA_GRID, cols):
         ax_b.plot(a, res.table2[b], "-o", ms=3, color=c,
                   label=f"beta = {b:g}" + (" (= KK)" if b == 0 else ""))
@@ -181,7 +185,7 @@ def fig07(res: StudyResults, path: Path) -> None:
         _measured_e_lines(ax, res)
     ax_a.plot([ALPHA_REF] * len(TABLE1_MODELS), [PUBLISHED_E[m] for m in TABLE1_MODELS],
               "kx", ms=8, mew=1.5, zorder=6, label=f"published value at alpha = {ALPHA_REF:g}")
-    ax_b.plot([ALPHA_REF], [PUBLISHED_E["Jian"]], "kx", ms=8, mew=1.5, zorder=6,
+    ax_b.plot([ALPHA_REF], [PUBLISHED_E[Jian.name]], "kx", ms=8, mew=1.5, zorder=6,
               label=f"published value\n(alpha = {ALPHA_REF:g}, beta = {BETA_REF:g})")
     ax_a.set_ylabel("coefficient of restitution e")
     ax_a.legend(fontsize=8.5, loc="upper right", bbox_to_anchor=(1.0, 0.84))
@@ -241,7 +245,8 @@ def _sweep_figure(res: StudyResults, path: Path, number: int, what: str) -> None
         "tc": ("contact time t_c [ms]", 1e3, lambda b: b.tc * 1e3),
         "fmax": ("peak force F_max [N]", 1.0, None),
     }[what]
-    fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
+    fig = Figure(figsize=(13, 5.5))
+    axes = fig.subplots(1, 2)
     for ax, (key, bs) in zip(axes, res.balls.items()):
         b = bs.ball
         ax.axvspan(b.v_min * 100, b.v_max * 100, color="0.92", zorder=0,
@@ -318,7 +323,7 @@ def write_figures(res: StudyResults, out: Path, names: Sequence[str] | None = No
     """Draw the figures (all, or ``names``) into directory ``out``; returns the paths.
 
     Rendering dominates a report's run time, so the figures are drawn in ``workers`` forked
-    processes (default: one per core; :func:`viscontact.parallel.forked_map`); ``tick(name)``
+    processes (default: one per core; :func:`viscontact._support.parallel.forked_map`); ``tick(name)``
     is called as each one is finished.
     """
     return forked_map(functools.partial(_draw, res, out), list(names or FIGURES),

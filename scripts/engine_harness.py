@@ -27,7 +27,8 @@ import sys
 import tempfile
 from dataclasses import asdict, dataclass
 
-HERE = os.path.dirname(os.path.abspath(__file__))
+#: tests/, where the recorded results and the engines' scripts live
+HERE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests")
 RECORDED = os.path.join(HERE, "data", "engine_runs.json")
 
 #: sphere materials: radius [m], density [kg/m^3], Young's modulus [Pa], Poisson ratio

@@ -5,28 +5,13 @@ from __future__ import annotations
 import html
 from datetime import datetime, timezone
 
-from ..experiment import data_source
-from ..study import PUBLISHED_E, StudyResults
+from .experiment import data_source
+from .study import PUBLISHED_E, StudyResults
 from .figures import FIGURES
-from .tables import Table
+from .._support.report import PAGE_CSS, Table
+from ..physics.laws import Jian
 
-__all__ = ["render_index", "PAGE_CSS"]
-
-#: the style of every report page (reproduce, dem-study)
-PAGE_CSS = """
-body { font-family: system-ui, sans-serif; max-width: 1250px; margin: 2em auto; padding: 0 1em;
-       color: #222; line-height: 1.45; }
-h1 { font-size: 1.6em; } h2 { margin-top: 2em; border-bottom: 1px solid #ccc; }
-table { border-collapse: collapse; margin: 1em 0; font-size: 0.9em; }
-caption { caption-side: top; text-align: left; padding-bottom: 0.4em; max-width: 60em; }
-th, td { border: 1px solid #ccc; padding: 0.2em 0.6em; }
-th { background: #f2f2f2; } td.n { text-align: right; font-variant-numeric: tabular-nums; }
-tbody tr:nth-child(even) { background: #fafafa; }
-figure { margin: 1.5em 0; } figure img { max-width: 100%; border: 1px solid #ddd; }
-figcaption { font-size: 0.95em; margin-top: 0.3em; }
-.note { background: #f6f8fa; border-left: 4px solid #888; padding: 0.6em 1em; }
-"""
-
+__all__ = ["render_index"]
 
 def _tables_by_stem(tables: list[Table]) -> dict[str, Table]:
     return {t.stem: t for t in tables}
@@ -36,8 +21,8 @@ def _published_check(res: StudyResults) -> str:
     rows = []
     i = int(abs(res.alpha_grid - 0.3).argmin())
     for m, pub in PUBLISHED_E.items():
-        ours = res.table2[0.5][i] if m == "Jian" else res.table1[m][i]
-        rows.append(f"<tr><td>{m}{' (beta = 0.5)' if m == 'Jian' else ''}</td>"
+        ours = res.table2[0.5][i] if m == Jian.name else res.table1[m][i]
+        rows.append(f"<tr><td>{m}{' (beta = 0.5)' if m == Jian.name else ''}</td>"
                     f'<td class="n">{pub:.4f}</td><td class="n">{ours:.6f}</td>'
                     f"<td>{'yes' if round(float(ours), 4) == pub else 'NO'}</td></tr>")
     return ('<table id="published"><caption><b>Check against the published values.</b> e at '

@@ -1,6 +1,7 @@
 """Physical units: effective properties, the time scale T, and the map alpha <-> c.
 
-Plain SI floats throughout (kg, m, s, Pa, N).  SPEC sections 1-3.
+Plain SI floats throughout (kg, m, s, Pa, N).  Hertz theory (K.L. Johnson, Contact Mechanics,
+1985, ch. 4) and the scaling of Jian et al., Powder Technol. 356 (2019) 735.
 
 Two bodies (or a body on a wall) give
 
@@ -21,18 +22,14 @@ F_d = c (1 - exp(-t/tau)) delta^(1/2) delta', tau = beta T):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
-from typing import Any
-
-import numpy as np
+from dataclasses import dataclass, replace
 
 from . import domain
-from .collision import CollisionResult, check_end, collide, result_dict
 from .laws import lookup, resolve
 
 __all__ = [
     "effective_mass", "effective_radius", "effective_modulus", "hertz_stiffness",
-    "time_scale", "damping_coefficient", "damping_constants", "impact", "ImpactResult",
+    "time_scale", "damping_coefficient", "damping_constants",
     "check_positive", "check_poisson", "drop_speed", "STANDARD_GRAVITY", "ContactPair",
     "contact_pair", "damping_unit", "hertz_limit", "HERTZ_TC", "HERTZ_XMAX",
 ]
@@ -43,7 +40,7 @@ STANDARD_GRAVITY = 9.81
 
 def check_positive(name: str, value: float) -> float:
     """``value`` as float, or ValueError if it is not a finite real number > 0 (no range:
-    parameters with a stated domain go through :func:`viscontact.domain.check`)."""
+    parameters with a stated domain go through :func:`viscontact.physics.domain.check`)."""
     v = domain.check_number(name, value)
     if not math.isfinite(v) or v <= 0:
         raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
@@ -93,7 +90,7 @@ def effective_modulus(e1: float, nu1: float, e2: float | None = None, nu2: float
 
 def hertz_stiffness(e_eff: float, r_eff: float) -> float:
     """k_Hertz = (4/3) E* sqrt(R*) [N/m^1.5] (Hertz 1882); the result must lie in the domain of
-    k_Hertz (:mod:`viscontact.domain`)."""
+    k_Hertz (:mod:`viscontact.physics.domain`)."""
     e = check_positive("effective modulus", e_eff)
     r = check_positive("effective radius", r_eff)
     k = 4.0 / 3.0 * e * math.sqrt(r)
@@ -103,7 +100,7 @@ def hertz_stiffness(e_eff: float, r_eff: float) -> float:
 
 @dataclass(frozen=True)
 class ContactPair:
-    """Effective properties of one contact (SPEC section 1), SI units; the one physical
+    """Effective properties of one contact (Hertz theory), SI units; the one physical
     description of a contact pair used by the audit, the fit and the DEM layer.
 
     Attributes:
@@ -113,7 +110,7 @@ class ContactPair:
         v: the normal impact speed v_i [m/s] when the pair describes one collision (None
         otherwise; :meth:`at` sets it).  Speed-dependent quantities (:attr:`T`) need it.
 
-    Every given value must lie in its domain (:mod:`viscontact.domain`; ValueError otherwise).
+    Every given value must lie in its domain (:mod:`viscontact.physics.domain`; ValueError otherwise).
     """
 
     m_eff: float
@@ -122,7 +119,7 @@ class ContactPair:
     e_eff: float | None = None
     v: float | None = None
 
-    #: the domain (:mod:`viscontact.domain`) of each field
+    #: the domain (:mod:`viscontact.physics.domain`) of each field
     _DOMAIN = {"m_eff": "mass", "k_hertz": "k_hertz", "r_eff": "radius", "e_eff": "modulus",
                "v": "v"}
 
@@ -196,7 +193,8 @@ def damping_unit(p: float) -> str:
     return f"N s/m^{1 + p:g}"
 
 
-#: undamped contact time t_c / T = (4/5)^(3/5) sqrt(pi) Gamma(2/5) / Gamma(9/10) (SPEC section 2)
+#: undamped contact time t_c / T = (4/5)^(3/5) sqrt(pi) Gamma(2/5) / Gamma(9/10) = 3.2180654597
+#: (the undamped Hertz impact: K.L. Johnson, Contact Mechanics, 1985, sec. 11.4)
 HERTZ_TC = (0.8 ** 0.6) * math.sqrt(math.pi) * math.gamma(0.4) / math.gamma(0.9)
 #: undamped maximum overlap delta_max / (T v_i) = (5/4)^(2/5)
 HERTZ_XMAX = 1.25 ** 0.4
@@ -215,14 +213,14 @@ def hertz_limit(m_eff: float, k_hertz: float, v: float) -> tuple[float, float, f
 def drop_speed(height: float, g: float = STANDARD_GRAVITY) -> float:
     """Impact speed sqrt(2 g h) [m/s] of a drop from rest through ``height`` [m], no drag.
 
-    ``height`` and ``g`` inside their domain (:mod:`viscontact.domain`) give a speed inside the
+    ``height`` and ``g`` inside their domain (:mod:`viscontact.physics.domain`) give a speed inside the
     domain of v."""
     return math.sqrt(2.0 * domain.check("gravity", g) * domain.check("drop_height", height,
                                                                        label="drop height"))
 
 
 def time_scale(m_eff: float, k_hertz: float, v: float) -> float:
-    """T = (m*^2 / (k_Hertz^2 v_i))^(1/5) [s] (SPEC section 2).
+    """T = (m*^2 / (k_Hertz^2 v_i))^(1/5) [s] (the Hertz time scale; Jian et al. 2019).
 
     Computed as (m*/k_Hertz)^(2/5) v^(-1/5): no intermediate overflows or underflows inside
     the domain (m* in [1e-24, 1e12] kg, k_Hertz in [1e-6, 1e17] N/m^1.5, v in [1e-6, 1e4] m/s
@@ -242,7 +240,7 @@ def _mass(m_eff: float, label: str = "m_eff") -> float:
 
 
 def _prefactor(p: float, m: float, k: float, v: float) -> float:
-    """c / alpha = m*^((3-2p)/5) v^((1-4p)/5) k^((2+2p)/5) (SPEC section 3); finite and > 0
+    """c / alpha = m*^((3-2p)/5) v^((1-4p)/5) k^((2+2p)/5) (Jian et al. 2019); finite and > 0
     inside the domain (each factor is)."""
     return m ** ((3.0 - 2.0 * p) / 5.0) * v ** ((1.0 - 4.0 * p) / 5.0) * k ** ((2.0 + 2.0 * p) / 5.0)
 
@@ -295,81 +293,3 @@ def damping_constants(
         raise ValueError(f"tau = {tau_v:g} s gives beta = tau / T = {beta:.6g} (T = {T:.6g} s); "
                          f"beta must be in {domain.range_text('beta')}")
     return alpha, beta
-
-
-@dataclass
-class ImpactResult:
-    """One collision in SI units.
-
-    Attributes:
-        e: restitution coefficient v_out / v_i (0 when the contact does not separate).
-        tc: contact time [s]; fmax [N] peak force at t_fmax [s]; dmax [m] peak overlap at
-        t_dmax [s] (these four None with ``history=False``); residual [m] overlap left at the
-        end; dissipated [J] damping work.
-        T [s] time scale, alpha and beta the non-dimensional constants at this speed.
-        t [s], delta [m], ddelta [m/s], force [N]: histories.
-    """
-
-    model: str
-    v: float
-    m_eff: float
-    k_hertz: float
-    c: float
-    tau: float | None
-    p: float
-    end: str
-    T: float
-    alpha: float
-    beta: float | None
-    e: float
-    tc: float
-    fmax: float | None
-    t_fmax: float | None
-    dmax: float | None
-    t_dmax: float | None
-    residual: float
-    dissipated: float
-    separated: bool
-    t: np.ndarray = field(repr=False, default_factory=lambda: np.empty(0))
-    delta: np.ndarray = field(repr=False, default_factory=lambda: np.empty(0))
-    ddelta: np.ndarray = field(repr=False, default_factory=lambda: np.empty(0))
-    force: np.ndarray = field(repr=False, default_factory=lambda: np.empty(0))
-
-    def to_dict(self, histories: bool = False) -> dict[str, Any]:
-        """Plain JSON-ready dict; infinities become None."""
-        return result_dict(self, ("t", "delta", "ddelta", "force"), histories)
-
-
-def to_physical(r: CollisionResult, *, m_eff: float, k_hertz: float, v: float, c: float,
-                tau: float | None) -> ImpactResult:
-    """Scale a non-dimensional result: time by T, overlap by T v, speed by v, force by m* v / T."""
-    T = time_scale(m_eff, k_hertz, v)
-    L, F = T * v, m_eff * v / T
-
-    def scaled(x: float | None, unit: float) -> float | None:
-        return None if x is None else x * unit
-
-    return ImpactResult(
-        model=r.model, v=v, m_eff=m_eff, k_hertz=k_hertz, c=c, tau=tau, p=r.p, end=r.end, T=T,
-        alpha=r.alpha, beta=r.beta, e=r.e, tc=r.tc * T, fmax=scaled(r.fmax, F),
-        t_fmax=scaled(r.t_fmax, T), dmax=scaled(r.xmax, L), t_dmax=scaled(r.t_xmax, T),
-        residual=r.residual * L,
-        dissipated=r.dissipated * m_eff * v * v, separated=r.separated,
-        t=r.t * T, delta=r.x * L, ddelta=r.v * v, force=r.f * F,
-    )
-
-
-def impact(
-    model: str, *, m_eff: float, k_hertz: float, v: float, c: float, tau: float | None = None,
-    p: float | None = None, end: str = "force", history: bool = True,
-) -> ImpactResult:
-    """Solve one collision given physical parameters; result in SI units.
-
-    m_eff [kg], k_hertz [N/m^1.5], v impact speed [m/s], c damping prefactor
-    [N s / m^(1+p)] (see :func:`damping_coefficient`), tau relaxation time [s] (Jian).
-    """
-    check_end(end)
-    alpha, beta = damping_constants(model, c, m_eff=m_eff, k_hertz=k_hertz, v=v, tau=tau, p=p)
-    r = collide(model, alpha, beta=beta, p=p, end=end, history=history)
-    return to_physical(r, m_eff=float(m_eff), k_hertz=float(k_hertz), v=float(v), c=float(c),
-                       tau=None if tau is None else float(tau))

@@ -3,7 +3,7 @@
 One expression of the force law lives here (:func:`force_s`); everything else (the
 collision solver, the histories, calibration, a future many-particle engine) calls it.
 
-Non-dimensional law (SPEC section 2), with x = delta/(T v_i), t = t/T, v = x':
+Non-dimensional law (Jian et al., Powder Technol. 356 (2019) 735), with x = delta/(T v_i), t = t/T, v = x':
 
     F = x^(3/2) + alpha g(t) x^p v,     g(t) = 1 - exp(-t/beta)  (beta > 0),  g = 1 (beta = 0)
 
@@ -50,7 +50,7 @@ _INV_FACTORIALS = np.array([1.0 / math.factorial(k + 1) for k in range(9)])
 
 @_inline
 def relaxation(t: float, beta: float) -> float:
-    """g(t) = 1 - exp(-t/beta), the Jian switch-on factor (SPEC section 2); 1 when beta = 0 (KK).
+    """g(t) = 1 - exp(-t/beta), the Jian switch-on factor (Jian et al. 2019); 1 when beta = 0 (KK).
 
     Without library calls, so that it vectorises across lanes: with y = t/beta = j/16 + r,
     0 <= r < 1/16 (y capped at 40, where g = 1 to double precision),
@@ -62,7 +62,7 @@ def relaxation(t: float, beta: float) -> float:
 
     A branch, not a select: scalar callers (the end-of-contact events) skip all this when
     beta = 0, and loops over lanes still vectorise (the compiler turns it into a select);
-    it never divides by 0, which plain Python (:mod:`viscontact.kernels_py`) would raise on.
+    it never divides by 0, which plain Python (:mod:`viscontact.physics.kernels_py`) would raise on.
     """
     if beta > 0.0:
         y = t * (1.0 / beta)  # 1/beta: one division per lane for all of a step's stages

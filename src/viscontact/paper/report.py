@@ -1,7 +1,7 @@
 """``viscontact reproduce``: compute the study, write the report atomically.
 
 The report directory follows the rule of every command that writes
-(:class:`viscontact.outputs.OutputDir`): it is built in a temporary directory and moved into
+(:class:`viscontact._support.outputs.OutputDir`): it is built in a temporary directory and moved into
 place only when complete, so a failure or an interrupt leaves nothing half-written; DIR's
 manifest :data:`MARKER` lists the files the report made with their hashes, ``force=True``
 replaces exactly those (while unchanged), and nothing else in DIR is ever deleted or
@@ -11,15 +11,14 @@ overwritten.
 from __future__ import annotations
 
 import os
-import shutil
 import sys
-import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import TextIO
 
-from ..outputs import MANIFEST, OutputDir, OutputError
-from ..study import STEPS, StudyResults, run_study
+from .._support.outputs import MANIFEST, OutputError
+from .._support.report import build_report, write_tables
+from .study import STEPS, StudyResults, run_study
 from .figures import FIGURES, write_figures
 from .html import render_index
 from .tables import all_tables
@@ -40,48 +39,12 @@ def report_files() -> list[str]:
             + ["index.html"])
 
 
-class _Progress:
-    """Step names on stderr: a tqdm bar on a terminal, one line per step otherwise."""
-
-    def __init__(self, total: int, stream: TextIO | None):
-        self.stream = stream
-        self.bar = None
-        self.i = 0
-        self.total = total
-        self.t0 = time.perf_counter()
-        if stream is not None and stream.isatty():
-            from tqdm import tqdm
-
-            width = min(shutil.get_terminal_size((100, 20)).columns, 110)
-            self.bar = tqdm(total=total, file=stream, unit="step", leave=True, ncols=width,
-                            bar_format="{desc:<44} {bar} {n_fmt}/{total_fmt} [{elapsed}]")
-
-    def __call__(self, name: str, weight: int = 1) -> None:
-        if self.bar is not None:
-            if self.i:
-                self.bar.update(self._last)
-            self.bar.set_description_str(name)
-        elif self.stream is not None:
-            print(f"viscontact reproduce: [{time.perf_counter() - self.t0:5.1f} s] {name}",
-                  file=self.stream, flush=True)
-        self.i += 1
-        self._last = weight
-
-    def close(self) -> None:
-        if self.bar is not None:
-            self.bar.set_description_str("done")
-            self.bar.update(self.total - self.bar.n)
-            self.bar.close()
-
-
 def _write_all(res: StudyResults, tmp: Path, step: Callable[[str, int], None]) -> list[str]:
-    from .. import __version__
+    from .._version import __version__
 
     step("tables (CSV and Markdown)", 1)
     tables = all_tables(res)
-    for t in tables:
-        (tmp / f"{t.stem}.csv").write_text(t.to_csv(), encoding="utf-8")
-        (tmp / f"{t.stem}.md").write_text(t.to_markdown(), encoding="utf-8")
+    write_tables(tables, tmp)
     write_figures(res, tmp, tick=lambda name: step(f"figure {name} done", 1))
     step("index.html", 1)
     (tmp / "index.html").write_text(render_index(res, tables, __version__), encoding="utf-8")
@@ -101,12 +64,9 @@ def reproduce(out: str | os.PathLike = DEFAULT_OUT, *, force: bool = False,
     other files with the report's names, or when it cannot be written; nothing is left
     behind in that case.  Returns the report directory.
     """
-    out_dir = OutputDir(out, "reproduce", force, expected=report_files())
-    with out_dir:
-        total = sum(w for _, w in STEPS) + len(FIGURES) + 2
-        step = _Progress(total, progress)
-        weights = dict(STEPS)
-        res = run_study(lambda name: step(name, weights[name]))
-        _write_all(res, out_dir.staging, step)
-        step.close()
-    return Path(out)
+    weights = dict(STEPS)
+    return build_report(
+        out, "reproduce", force=force, expected=report_files(),
+        compute=lambda step: run_study(lambda name: step(name, weights[name])),
+        write=_write_all, progress=progress, total=sum(weights.values()) + len(FIGURES) + 2,
+        bar_format="{desc:<44} {bar} {n_fmt}/{total_fmt} [{elapsed}]")

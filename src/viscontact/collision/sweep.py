@@ -1,6 +1,6 @@
 """Velocity sweeps: one set of physical parameters, many impact speeds.
 
-SPEC section 3, last note: with m*, k_Hertz, c (and tau) fixed in physical units, alpha and
+Jian et al., Powder Technol. 356 (2019) 735: with m*, k_Hertz, c (and tau) fixed in physical units, alpha and
 (for Jian) beta = tau / T change with the impact speed through T, so a calibrated law
 predicts e(v_i), t_c(v_i) and F_max(v_i).
 """
@@ -14,10 +14,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import domain
-from .collision import check_end
-from .dimensional import _mass, impact
-from .laws import lookup
+from ..physics import domain
+from .single import check_end
+from ..physics.pair import _mass
+from .impact import impact
+from ..physics.laws import lookup
 
 __all__ = ["SweepResult", "velocity_sweep", "study_speeds", "SWEEP_FIELDS", "MAX_SPEEDS"]
 
@@ -93,7 +94,7 @@ def velocity_sweep(
 ) -> SweepResult:
     """e, t_c, F_max, delta_max at each impact speed [m/s] with m*, k_Hertz, c, tau held fixed.
 
-    Every number must lie in its domain (:mod:`viscontact.domain`), and c (tau) must give an
+    Every number must lie in its domain (:mod:`viscontact.physics.domain`), and c (tau) must give an
     alpha (beta) inside its domain at every speed, else ValueError.  At most
     :data:`MAX_SPEEDS` speeds (each is one collision with histories)."""
     check_end(end)

@@ -1,4 +1,4 @@
-"""The kernels of :mod:`viscontact.kernels` as plain Python functions, without numba.
+"""The kernels of :mod:`viscontact.physics.kernels` as plain Python functions, without numba.
 
 Importing numba and initialising its compiler back end (LLVM) when the first cached
 kernel is loaded costs about 0.5 s, twenty to fifty times what one collision with
@@ -6,7 +6,7 @@ histories costs (about 10^4 kernel calls).  The reference solver calls these ins
 a process's first few collisions, so that ``viscontact collide`` never loads numba.
 
 There is still one expression of each force law: :func:`python_kernels` executes the
-source of :mod:`viscontact.kernels` itself, with ``numba.njit`` replaced by the identity,
+source of :mod:`viscontact.physics.kernels` itself, with ``numba.njit`` replaced by the identity,
 so every function there is its own ``py_func`` and calls the others as plain Python.  The
 numbers are the same as the compiled ones (IEEE arithmetic, no fast-math; tested).
 """
@@ -34,7 +34,7 @@ _NUMBA_STAND_IN = types.SimpleNamespace(njit=_identity_njit)
 
 @functools.cache
 def python_kernels() -> types.ModuleType:
-    """A module with every function of :mod:`viscontact.kernels`, uncompiled.
+    """A module with every function of :mod:`viscontact.physics.kernels`, uncompiled.
 
     Built once per process (about a millisecond, from the cached bytecode); importing it
     neither imports numba nor touches ``sys.modules``.
@@ -51,7 +51,7 @@ def python_kernels() -> types.ModuleType:
         return real_import(name, *args, **kwargs)
 
     module = types.ModuleType(f"{__package__}.kernels_py.kernels",
-                              "viscontact.kernels as plain Python")
+                              "viscontact.physics.kernels as plain Python")
     module.__file__ = spec.origin
     # Only this module's own builtins see the stand-in; the interpreter's are untouched.
     module.__dict__["__builtins__"] = {**vars(builtins), "__import__": import_without_numba}

@@ -1,4 +1,4 @@
-"""Every number behind the study's tables and figures (SPEC section 8), computed once.
+"""Every number behind the study's tables and figures (Jian et al., Powder Technol. 356 (2019) 735), computed once.
 
 :func:`run_study` solves all collisions and returns a :class:`StudyResults`; the report
 package (:mod:`viscontact.report`) only reads it.  Grids are module constants so that the
@@ -13,13 +13,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .calibration import restitution
-from .collision import CollisionResult, collide
-from .dimensional import ImpactResult, hertz_limit, impact
+from ..calibration.inverse import restitution
+from ..collision.single import CollisionResult, collide
+from ..collision.impact import ImpactResult, impact
+from ..physics.pair import hertz_limit
 from .experiment import Ball, PhysicalCalibration, calibrate_ball, load_balls
-from .laws import STUDY_MODELS
-from .parallel import forked_map
-from .sweep import SweepResult, study_speeds, velocity_sweep
+from ..physics.laws import STUDY_MODELS
+from .._support.parallel import forked_map
+from ..collision.sweep import SweepResult, study_speeds, velocity_sweep
+from ..physics.laws import Hunt, Jian, KK, LH, Li, Ts
 
 __all__ = [
     "ALPHA_GRID", "PUBLISHED_E", "BETA_GRID", "TABLE1_MODELS", "ALPHA_REF", "BETA_REF", "SERIES_ALPHAS",
@@ -35,13 +37,14 @@ ALPHA_GRID: tuple[float, ...] = tuple(
 #: Table 2: Jian's beta values (beta = 0 is KK)
 BETA_GRID: tuple[float, ...] = (0.0, 0.1, 0.3, 0.5, 1.0, 1.5, 2.0, 2.5, 3.2)
 #: Table 1's laws (Jian has its own table)
-TABLE1_MODELS: tuple[str, ...] = ("LH", "Ts", "KK", "Li", "Hunt")
+TABLE1_MODELS: tuple[str, ...] = (LH.name, Ts.name, KK.name, Li.name, Hunt.name)
 #: Fig. 2 and Fig. 6: alpha; Fig. 2: Jian's beta
 ALPHA_REF = 0.3
 BETA_REF = 0.5
-#: e at alpha = 0.3 as published (zero-force end; Jian with beta = 0.5), SPEC section 6
+#: e at alpha = 0.3 as published (zero-force end; Jian with beta = 0.5), Jian et al. 2019
 PUBLISHED_E: dict[str, float] = {
-    "LH": 0.6207, "Ts": 0.6778, "KK": 0.7221, "Li": 0.7890, "Hunt": 0.8329, "Jian": 0.7622,
+    LH.name: 0.6207, Ts.name: 0.6778, KK.name: 0.7221, Li.name: 0.7890, Hunt.name: 0.8329,
+    Jian.name: 0.7622,
 }
 #: Figs. 3-5: the alpha values drawn for each law
 SERIES_ALPHAS: tuple[float, ...] = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)
@@ -59,7 +62,7 @@ STEPS: tuple[tuple[str, int], ...] = (
 
 
 def _beta_kw(model: str, beta: float) -> dict[str, float]:
-    return {"beta": beta} if model == "Jian" else {}
+    return {"beta": beta} if model == Jian.name else {}
 
 
 @dataclass
@@ -121,13 +124,13 @@ def run_study(step: Callable[[str], None] | None = None, *, n_speeds: int = 24) 
     table1 = {m: np.asarray(restitution(m, grid, exact=True)) for m in TABLE1_MODELS}
 
     step(next(names))
-    table2 = {b: np.asarray(restitution("Jian", grid, beta=b, exact=True)) for b in BETA_GRID}
+    table2 = {b: np.asarray(restitution(Jian.name, grid, beta=b, exact=True)) for b in BETA_GRID}
 
     step(next(names))
     reference = [collide(m, ALPHA_REF, **_beta_kw(m, BETA_REF)) for m in STUDY_MODELS]
     series = {m: [collide(m, a, **_beta_kw(m, BETA_REF)) for a in SERIES_ALPHAS]
               for m in STUDY_MODELS}
-    jian_betas = [collide("Jian", ALPHA_REF, beta=b) for b in FIG6_BETAS]
+    jian_betas = [collide(Jian.name, ALPHA_REF, beta=b) for b in FIG6_BETAS]
 
     step(next(names))
     balls = load_balls()

@@ -1,12 +1,12 @@
 """The contact laws: one registry, one frozen description per law.
 
 Every law is a Hertzian spring plus a damping term.  In the non-dimensional form of
-SPEC section 2 (x = delta / (T v_i), t^ = t / T) all of them read
+Jian et al., Powder Technol. 356 (2019) 735 (x = delta / (T v_i), t^ = t / T) all of them read
 
     F^ = x^(3/2) + alpha g(t^) x^p x',      g = 1, or g = 1 - exp(-t^/beta) (Jian)
 
 so a law is fully described by its exponent ``p`` and whether it carries the relaxation
-factor ``g``.  The arithmetic itself lives in :mod:`viscontact.kernels`; this module only
+factor ``g``.  The arithmetic itself lives in :mod:`viscontact.physics.kernels`; this module only
 says *which* numbers a law feeds into it.
 
 Adding a law: (1) subclass :class:`ContactLaw` with its docstring (equation, units,
@@ -34,6 +34,7 @@ class ContactLaw:
     p: ClassVar[float | None]  # None: the user gives p (the general power law)
     needs_beta: ClassVar[bool] = False
     history: ClassVar[tuple[str, ...]] = ()  # per-contact memory a DEM engine must keep
+    beta_zero: ClassVar[str | None] = None  # the law this one is at beta = 0 (needs_beta only)
     reference: ClassVar[str]
 
 
@@ -123,6 +124,7 @@ class Jian(ContactLaw):
     p = 0.5
     needs_beta = True
     history = ("contact_start_time",)
+    beta_zero = KK.name
     reference = "B. Jian et al., Powder Technol. 356 (2019) 735, doi:10.1016/j.powtec.2019.08.110"
 
 
@@ -132,7 +134,7 @@ class Power(ContactLaw):
     F = k_Hertz delta^(3/2) + c delta',
     c = alpha m*^((3-2p)/5) v_i^((1-4p)/5) k_Hertz^((2+2p)/5) delta^p  [kg/s].
     Non-dimensional: F^ = x^(3/2) + alpha x^p x'.  p = 0, 1/4, 1/2, 1, 3/2 give LH, Ts, KK,
-    Li, Hunt.  SPEC section 3; B. Jian et al., Powder Technol. 356 (2019) 735.
+    Li, Hunt.  B. Jian et al., Powder Technol. 356 (2019) 735.
     """
 
     name = "power"
@@ -144,8 +146,8 @@ class Power(ContactLaw):
 _REGISTERED: tuple[type[ContactLaw], ...] = (LH, Ts, KK, Li, Hunt, Jian, Power)
 LAWS: dict[str, type[ContactLaw]] = {law.name: law for law in _REGISTERED}
 MODELS: tuple[str, ...] = tuple(LAWS)
-#: the laws the study compares (no free exponent)
-STUDY_MODELS: tuple[str, ...] = ("LH", "Ts", "KK", "Li", "Hunt", "Jian")
+#: the laws the study compares (those with a fixed exponent)
+STUDY_MODELS: tuple[str, ...] = tuple(name for name, law in LAWS.items() if law.p is not None)
 
 
 @dataclass(frozen=True)
@@ -168,7 +170,7 @@ class LawParams:
 
 def check_finite_nonneg(name: str, value: float) -> float:
     """Return ``value`` as float, or raise ValueError if it is not a finite number >= 0
-    (a real number: not bool, str, None or complex; see :mod:`viscontact.domain`)."""
+    (a real number: not bool, str, None or complex; see :mod:`viscontact.physics.domain`)."""
     v = domain.check_number(name, value)
     if not math.isfinite(v) or v < 0:
         raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
@@ -196,7 +198,7 @@ def lookup(model: str) -> type[ContactLaw]:
 
 def resolve(model: str, *, beta: float | None = None, p: float | None = None) -> LawParams:
     """Validate a model name and its extra parameters (beta, p inside their domain,
-    :mod:`viscontact.domain`); ValueError says what is wrong."""
+    :mod:`viscontact.physics.domain`); ValueError says what is wrong."""
     law = lookup(model)
     if law.needs_beta:
         if beta is None:
