@@ -78,7 +78,7 @@ def cases() -> list[tuple[str, str, str]]:
     """(label, law, pair lines) for every plugin law and every native damping used."""
     from viscontact import dem
     from viscontact.audit.engines import get_preset
-    from viscontact.dimensional import contact_pair
+    from viscontact.physics.pair import contact_pair
 
     mass = RHO * math.pi * D**3 / 6.0
     pair = contact_pair(mass, radius=D / 2, modulus=E, poisson=NU, mass2=mass, radius2=D / 2,

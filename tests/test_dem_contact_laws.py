@@ -1,5 +1,5 @@
 """The C++ law table (``viscontact_contact.h: LAW_TABLE``, the one place the plugin names a law)
-against the Python registry ``viscontact.laws``: the same laws in the same order, with the same
+against the Python registry ``viscontact.physics.laws``: the same laws in the same order, with the same
 damping exponent, relaxation-time parameter and per-contact history.  A law added in one
 language and not the other fails here."""
 

@@ -22,7 +22,7 @@ import pytest
 import viscontact as vc
 from viscontact import dem
 from viscontact.dem import _text, coeff as coeff_mod, io as io_mod, run as run_mod
-from viscontact.dimensional import ContactPair
+from viscontact.physics.pair import ContactPair
 
 from viscontact.cli import main
 

@@ -29,7 +29,7 @@ import pytest
 from dem_examples import plugin_lacks
 from dem_util import assert_ok, needs_lammps, plugin_line, run_lmp
 from viscontact import dem
-from viscontact.dimensional import HERTZ_TC
+from viscontact.physics.pair import HERTZ_TC
 
 pytestmark = needs_lammps
 

@@ -22,7 +22,7 @@ from dem_util import (
     DROP_HISTORY, assert_ok, error_lines, needs_lammps, needs_mpirun, plugin_line, read_atoms, run_inprocess,
     run_lmp, write_sphere_data,
 )
-from viscontact.dimensional import damping_coefficient, time_scale
+from viscontact.physics.pair import damping_coefficient, time_scale
 
 pytestmark = needs_lammps
 

@@ -2,7 +2,7 @@
 kernels, through a tiny ctypes library built from the same header (no LAMMPS needed).
 
 Non-dimensional (k = 1, c0 = alpha, tau = beta), ``normal_force(x, x', t, 1, alpha, beta, p)``
-must equal ``viscontact.kernels.force(x, x', t, alpha, beta, p)`` to rounding on thousands of
+must equal ``viscontact.physics.kernels.force(x, x', t, alpha, beta, p)`` to rounding on thousands of
 sampled points of every law's exponent and random ones.  Measured: |C++ - kernels| <= 1.94 eps
 (|x^1.5| + |alpha g x^p x'|) (eps = 2^-52), i.e. within 4 ulp of the force where spring and
 damping add; the bound asserted is 4 eps of that scale (a handful of roundings: x sqrt(x)
@@ -19,7 +19,7 @@ import pytest
 
 from viscontact import kernels
 from viscontact.dem import plugin
-from viscontact.dimensional import damping_coefficient, time_scale
+from viscontact.physics.pair import damping_coefficient, time_scale
 
 try:
     plugin._compiler()
@@ -91,7 +91,7 @@ def test_relaxation_factor(lib):
 @pytest.mark.parametrize("law", LAWS)
 def test_contact_coefficients_from_alpha(lib, law):
     """c0 = alpha m*^((3-2p)/5) vref^((1-4p)/5) k^((2+2p)/5), tau = beta T_ref (SPEC section 3),
-    per contact, against viscontact.dimensional."""
+    per contact, against viscontact.physics.pair."""
     p = {"LH": 0.0, "Ts": 0.25, "KK": 0.5, "Li": 1.0, "Hunt": 1.5, "Jian": 0.5, "power": 0.8}[law]
     estar, meff, reff, vref, alpha, beta = 3.1e8, 2.7e-3, 4.5e-3, 1.7, 0.37, 0.6
     out = np.empty(3)

