@@ -242,11 +242,13 @@ class ContactModel {
   void history_signs(double *sign) const
   {
     for (int k = 0; k < slots.size; k++) sign[k] = 1.0;
+    // seen from j, n and v_t flip, so xi and the tangential dashpot force do; the rolling
+    // velocity R* (w_i - w_j) x n and the twisting rate (w_i - w_j) . n do not (both factors
+    // flip), so the rolling and twisting displacements and dashpots keep their sign (native
+    // pair granular negates them too, which corrupts a contact whose pair order changes at a
+    // rebuild, migration or restart); F_d along n and the works do not flip
     if (slots.xi >= 0) for (int k = 0; k < 3; k++) sign[slots.xi + k] = -1.0;
-    if (slots.roll >= 0) for (int k = 0; k < 3; k++) sign[slots.roll + k] = -1.0;
-    if (slots.twist >= 0) sign[slots.twist] = -1.0;
-    // the dashpot forces flip (tangential, rolling, twisting); F_d along n and the works do not
-    if (slots.damp >= 0) for (int k = 1; k < 8; k++) sign[slots.damp + k] = -1.0;
+    if (slots.damp >= 0) for (int k = 1; k < 4; k++) sign[slots.damp + k] = -1.0;
   }
 
   /// The last step's contact radius is kept: rescale models (native), and for the energy of
