@@ -131,6 +131,28 @@ struct ContactResult {
                               ///< the contact's history only when the history advances
   double elastic[NELASTIC];   ///< elastic energy stored now
   double power;               ///< total dissipated power of the step (sum dissipated / dt)
+
+  /// Everything acting on the atoms times f (a special_bonds factor, 0 < f < 1, as pair
+  /// granular applies it): forces, torques, heat and so the work, dissipated and elastic
+  /// energies; the contact radius stays.
+  void scale(double f)
+  {
+    for (int k = 0; k < 3; k++) {
+      force[k] *= f;
+      torque_i[k] *= f;
+      torque_j[k] *= f;
+      ft[k] *= f;
+      fr[k] *= f;
+    }
+    heat *= f;
+    fn *= f;
+    fne *= f;
+    fdamp *= f;
+    tau_twist *= f;
+    for (double &d : dissipated) d *= f;
+    for (double &e : elastic) e *= f;
+    power *= f;
+  }
 };
 
 /// Dashpot forces and pending half-step works kept per contact for the energy count
