@@ -1,8 +1,9 @@
 """Bonded partners (``special_bonds``) as native ``pair_style granular`` treats them: a pair
 whose special_lj factor is 0 is skipped (no force, its contact history left alone), any other
-factor scales the pair's forces and torques.  Ours and native side by side on a small cluster of
+factor scales the pair's forces and torques (not its heat flow).  Ours and native side by side on a small cluster of
 touching spheres, three of them bonded in a chain (1-2, 2-3: 1-2 partners; 1-3: 1-3 partners),
-with jkr cohesion, tangential, rolling and twisting history: positions, forces and torques after
+with jkr cohesion, tangential, rolling and twisting history and heat conduction (heat area,
+fix heat/flow): positions, forces, torques, temperatures and heat flows after
 a few steps equal native's to 1e-10 (measured <= 8e-16, from the order of sums), for factors 1,
 0.5 and 0 (0 both excluded from the neighbour list, coul 0, and listed, coul 1).
 """
@@ -36,6 +37,7 @@ boundary f f f
 comm_modify vel yes
 region box block -0.05 0.05 -0.05 0.05 -0.05 0.05
 create_box 1 box bond/types 1 extra/bond/per/atom 2 extra/special/per/atom 4
+fix p all property/atom temperature heatflow
 create_atoms 1 single 0 0 0
 create_atoms 1 single 0.0098 0 0
 create_atoms 1 single 0.0049 0.0085 0.0003
@@ -48,20 +50,25 @@ set atom 2 vy -0.03 omega -4 6 2
 set atom 3 vz 0.01 omega 7 1 -5
 set atom 4 vx 0.05 omega 0 9 -2
 set atom 5 vy 0.04 omega 3 -6 4
+set group all temperature 300
+set atom 1 temperature 400
+set atom 5 temperature 350
 bond_style zero
 bond_coeff 1
 special_bonds {special}
 create_bonds single/bond 1 1 2
 create_bonds single/bond 1 2 3
 pair_style {style}
-pair_coeff * * {coeff}
+pair_coeff * * {coeff} heat area 3.0
 neighbor 0.002 bin
 timestep 2e-6
 fix 1 all nve/sphere
+fix h all heat/flow constant 1.0
+compute hf all property/atom temperature heatflow
 run {steps}
-write_dump all custom {out} id x y z fx fy fz tqx tqy tqz modify sort id format float %.17g
+write_dump all custom {out} id x y z fx fy fz tqx tqy tqz c_hf[1] c_hf[2] modify sort id format float %.17g
 """
-COLS = ("x", "y", "z", "fx", "fy", "fz", "tqx", "tqy", "tqz")
+COLS = ("x", "y", "z", "fx", "fy", "fz", "tqx", "tqy", "tqz", "c_hf[1]", "c_hf[2]")
 
 
 def _run(d, case: str, style: str) -> dict:

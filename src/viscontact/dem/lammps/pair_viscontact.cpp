@@ -493,7 +493,8 @@ void PairViscontact::compute(int eflag, int vflag)
 
     for (int jj = 0; jj < jnum; jj++) {
       // bonded partners (special_bonds): as pair granular, a factor 0 skips the pair (its
-      // history is left as it is), another factor scales its forces, torques, heat and energies
+      // history is left as it is), another factor scales its forces, torques and energies (not
+      // its heat flow)
       const double factor_lj = special_lj[sbmask(jlist[jj])];
       if (factor_lj == 0.0) continue;
       const int j = jlist[jj] & NEIGHMASK;

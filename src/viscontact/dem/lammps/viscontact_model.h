@@ -132,9 +132,9 @@ struct ContactResult {
   double elastic[NELASTIC];   ///< elastic energy stored now
   double power;               ///< total dissipated power of the step (sum dissipated / dt)
 
-  /// Everything acting on the atoms times f (a special_bonds factor, 0 < f < 1, as pair
-  /// granular applies it): forces, torques, heat and so the work, dissipated and elastic
-  /// energies; the contact radius stays.
+  /// The mechanics times f (a special_bonds factor, 0 < f < 1, as pair granular applies it):
+  /// forces, torques and so the work, dissipated and elastic energies.  The heat flow and the
+  /// contact radius stay (pair granular conducts heat through a bonded contact unscaled).
   void scale(double f)
   {
     for (int k = 0; k < 3; k++) {
@@ -144,7 +144,6 @@ struct ContactResult {
       ft[k] *= f;
       fr[k] *= f;
     }
-    heat *= f;
     fn *= f;
     fne *= f;
     fdamp *= f;
