@@ -7,6 +7,10 @@ sampled points of every law's exponent and random ones.  Measured: |C++ - kernel
 (|x^1.5| + |alpha g x^p x'|) (eps = 2^-52), i.e. within 4 ulp of the force where spring and
 damping add; the bound asserted is 4 eps of that scale (a handful of roundings: x sqrt(x)
 against pow, the relaxation factor by expm1 against the kernels' table and series).
+
+``vc_contact_step`` runs THE contact step (``ContactModel::evaluate``, which pair and wall call)
+for one contact: Hertz + damping + linear_history over consecutive random steps equals the
+formulas written out here to 1e-12 of the force.
 """
 
 from __future__ import annotations
@@ -44,6 +48,11 @@ def lib():
     lib.vc_contact_coeffs.argtypes = [ctypes.c_int, ctypes.c_double, ctypes.c_int] + \
         [ctypes.c_double] * 8 + [dp]
     lib.vc_mindlin.argtypes = [dp, dp, dp, ctypes.c_double, ctypes.c_double, ctypes.c_double, dp]
+    lib.vc_contact_step.argtypes = [ctypes.c_int, ctypes.c_double, ctypes.c_double, ctypes.c_double,
+                                    ctypes.c_int] + [ctypes.c_double] * 4 + [dp, dp, ctypes.c_int, dp]
+    lib.vc_contact_step.restype = ctypes.c_int
+    lib.vc_law_exponent.argtypes = [ctypes.c_int]
+    lib.vc_law_exponent.restype = ctypes.c_double
     return lib
 
 
@@ -206,3 +215,73 @@ def test_integer_sizes_macro():
         "-DLAMMPS_BIGBIG"
     assert plugin._integer_sizes_define("sizeof(tagint):   32-bit\nsizeof(bigint):   32-bit") == \
         "-DLAMMPS_SMALLSMALL"
+
+
+def _reference_step(st: dict, xi: np.ndarray, law_p: float, c0: float, clamp: bool, Estar: float,
+                    kt: float, xgamma: float, mu: float) -> tuple[np.ndarray, np.ndarray, float]:
+    """One Hertz + damping + linear_history step written out from the formulas (Johnson 1985
+    for Hertz; Luding, Granular Matter 10 (2008) 235, eq. 17, for the rotated spring; the
+    Coulomb cap as LAMMPS granular's linear_history): returns (F on i, torque on i, F_n) and
+    advances xi in place."""
+    n, delta, ri, rj = st["n"], st["delta"], st["ri"], st["rj"]
+    reff = ri * rj / (ri + rj)
+    vr, wi, wj, dt = st["vr"], st["wi"], st["wj"], st["dt"]
+    vn = vr @ n
+    vtr = vr - vn * n - np.cross(ri * wi + rj * wj, n)
+    fne = 4.0 / 3.0 * Estar * np.sqrt(reff) * delta**1.5
+    eta = c0 * delta**law_p
+    fn = fne + eta * (-vn)
+    if clamp:
+        fn = max(fn, 0.0)
+    fscrit = mu * abs(fn)
+    if abs(xi @ n) * kt > 1e-10 * fscrit:    # the spring turns with the contact plane
+        length = np.linalg.norm(xi)
+        xi -= (xi @ n) * n
+        xi *= length / np.linalg.norm(xi)
+    xi += dt * vtr
+    fdmp = -xgamma * eta * vtr
+    ft = -kt * xi + fdmp
+    if np.linalg.norm(ft) > fscrit:
+        ft *= fscrit / np.linalg.norm(ft)
+        xi[:] = -(ft - fdmp) / kt
+    force = fn * n + ft
+    torque = -(ri - 0.5 * delta) * np.cross(n, ft)
+    return force, torque, fn
+
+
+@pytest.mark.parametrize("law", ["LH", "KK", "Hunt"])
+def test_contact_step_equals_formulas(lib, law):
+    """vc_contact_step (ContactModel::evaluate, the step pair and wall run) against the Hertz +
+    damping + linear_history formulas evaluated here, over a few consecutive steps of random
+    contacts (the spring rotates, sticks and slides): force and torque to 1e-12 of their scale."""
+    rng = np.random.default_rng(20 + LAWS.index(law))
+    p = lib.vc_law_exponent(LAWS.index(law))
+    Estar, kt, xgamma = 5e6, 2e4, 0.5
+    slid = 0
+    for trial in range(8):
+        c0 = float(rng.uniform(0.1, 5.0))
+        mu = float(rng.uniform(0.05, 0.6))
+        clamp = bool(trial % 2)
+        h = np.zeros(64)
+        xi = np.zeros(3)
+        n = rng.normal(size=3)
+        for step in range(6):
+            n = n + 0.05 * rng.normal(size=3)
+            n /= np.linalg.norm(n)
+            st = dict(n=n.copy(), delta=float(rng.uniform(1e-6, 1e-4)), ri=0.005, rj=0.004,
+                      vr=rng.normal(0, 0.1, 3), wi=rng.normal(0, 10, 3), wj=rng.normal(0, 10, 3),
+                      dt=1e-5)
+            geo = np.concatenate([st["n"], [st["delta"], st["ri"], st["rj"], 0.001], st["vr"],
+                                  st["wi"], st["wj"], [st["dt"], 0.0]])
+            out = np.zeros(8)
+            size = lib.vc_contact_step(LAWS.index(law), p, c0, 0.0, int(clamp), Estar, kt, xgamma,
+                                       mu, geo, h, 1, out)
+            assert 4 <= size <= 64
+            f_ref, t_ref, fn_ref = _reference_step(st, xi, p, c0, clamp, Estar, kt, xgamma, mu)
+            fscale = abs(fn_ref) + np.linalg.norm(f_ref) + 1e-300
+            assert np.abs(out[:3] - f_ref).max() <= 1e-12 * fscale, (trial, step, out, f_ref)
+            assert np.abs(out[3:6] - t_ref).max() <= 1e-12 * fscale * st["ri"], (trial, step)
+            assert out[6] == pytest.approx(fn_ref, rel=1e-12, abs=1e-12 * fscale)
+            slid += np.linalg.norm(f_ref - (f_ref @ n) * n) >= mu * abs(fn_ref) * (1 - 1e-12)
+    assert slid > 0    # the Coulomb cap was exercised
+

@@ -473,6 +473,7 @@ void PairViscontact::compute(int eflag, int vflag)
   }
   double *heatflow = heat_on ? atom->heatflow : nullptr;
   EnergyTally *tally = energy_begin();
+  const double *special_lj = force->special_lj;
 
   const int inum = list->inum;
   const int *ilist = list->ilist, *numneigh = list->numneigh;
@@ -491,6 +492,11 @@ void PairViscontact::compute(int eflag, int vflag)
     double *hv = fh->values_of(i);
 
     for (int jj = 0; jj < jnum; jj++) {
+      // bonded partners (special_bonds): as pair granular, a factor 0 skips the pair (its
+      // history is left as it is), another factor scales its forces, torques and energies (not
+      // its heat flow)
+      const double factor_lj = special_lj[sbmask(jlist[jj])];
+      if (factor_lj == 0.0) continue;
       const int j = jlist[jj] & NEIGHMASK;
       const int jtype = type[j];
       const double radj = radius[j];
@@ -504,7 +510,7 @@ void PairViscontact::compute(int eflag, int vflag)
           !(beyond_contact && fl[jj] && m.touching(rsq, radsum, radi * radj / radsum, true))) {
         // apart (jkr: beyond pull-off): the contact (if any) has ended; a new one starts afresh
         if (history_update && fl[jj]) {
-          if (tally) tally->add_release(i, j, nlocal, newton_pair, m, h);
+          if (tally) tally->add_release(i, j, nlocal, newton_pair, m, h, factor_lj);
           fl[jj] = 0;
           for (int k = 0; k < dnum; k++) h[k] = 0.0;
         }
@@ -520,6 +526,7 @@ void PairViscontact::compute(int eflag, int vflag)
       }
       m.evaluate(g, hc, history_update, res);
       if (history_update) fl[jj] = 1;
+      if (factor_lj != 1.0) res.scale(factor_lj);
       if (!std::isfinite(res.fn))
         error->one(FLERR, fmt::format("pair viscontact: the normal force between atoms {} and {} "
                    "is not finite (overlap {}); check the time step and the pair_coeff values",
@@ -554,10 +561,11 @@ void PairViscontact::compute(int eflag, int vflag)
    the dissipated power, the contact's accumulated dissipated energy.  The history is used as
    stored (not advanced). */
 double PairViscontact::single(int i, int j, int itype, int jtype, double rsq, double /*factor_coul*/,
-                              double /*factor_lj*/, double &fforce)
+                              double factor_lj, double &fforce)
 {
   for (int k = 0; k < single_extra; k++) svector[k] = 0.0;
   fforce = 0.0;
+  if (factor_lj == 0.0) return 0.0;    // a bonded pair that compute() skips
   double **x = atom->x;
   const double radi = atom->radius[i], radj = atom->radius[j];
   const double radsum = radi + radj;
@@ -587,6 +595,7 @@ double PairViscontact::single(int i, int j, int itype, int jtype, double rsq, do
   const int es = m.history_slots().energy;
   const double stored = es >= 0 ? hist[es] : 0.0;
   m.evaluate(g, hist, false, res);
+  if (factor_lj != 1.0) res.scale(factor_lj);    // the special_bonds factor, as compute()
   fforce = res.fne / std::sqrt(rsq);
   for (int k = 0; k < 3; k++) {
     svector[k] = res.ft[k];
@@ -597,7 +606,7 @@ double PairViscontact::single(int i, int j, int itype, int jtype, double rsq, do
   svector[7] = std::sqrt(res.fr[0] * res.fr[0] + res.fr[1] * res.fr[1] + res.fr[2] * res.fr[2]);
   svector[8] = res.tau_twist;
   svector[12] = res.power;
-  svector[13] = stored;
+  svector[13] = factor_lj * stored;    // the history accumulates the unscaled energy
   return 0.0;
 }
 
@@ -730,10 +739,12 @@ void PairViscontact::EnergyTally::add_pair(int i, int j, int nlocal, int newton_
 }
 
 void PairViscontact::EnergyTally::add_release(int i, int j, int nlocal, int newton_pair,
-                                               const vc::ContactModel &m, const double *h)
+                                               const vc::ContactModel &m, const double *h,
+                                               double factor)
 {
   double d[vc::NDISS] = {0.0};
   m.release(h, d);
+  for (double &x : d) x *= factor;
   for (int side = 0; side < 2; side++) {
     const int a = side ? j : i;
     if (side && !(newton_pair || j < nlocal)) break;

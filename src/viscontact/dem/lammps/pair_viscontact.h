@@ -98,7 +98,7 @@ class PairViscontact : public Pair {
     std::vector<double> diss, elastic;    // this step, per atom (local and ghost)
     void add_pair(int i, int j, int nlocal, int newton_pair, const viscontact::ContactResult &r);
     void add_release(int i, int j, int nlocal, int newton_pair, const viscontact::ContactModel &m,
-                     const double *h);
+                     const double *h, double factor);
   };
   EnergyTally tally_;
   bool energy_requested = false;

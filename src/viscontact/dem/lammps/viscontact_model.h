@@ -131,6 +131,27 @@ struct ContactResult {
                               ///< the contact's history only when the history advances
   double elastic[NELASTIC];   ///< elastic energy stored now
   double power;               ///< total dissipated power of the step (sum dissipated / dt)
+
+  /// The mechanics times f (a special_bonds factor, 0 < f < 1, as pair granular applies it):
+  /// forces, torques and so the work, dissipated and elastic energies.  The heat flow and the
+  /// contact radius stay (pair granular conducts heat through a bonded contact unscaled).
+  void scale(double f)
+  {
+    for (int k = 0; k < 3; k++) {
+      force[k] *= f;
+      torque_i[k] *= f;
+      torque_j[k] *= f;
+      ft[k] *= f;
+      fr[k] *= f;
+    }
+    fn *= f;
+    fne *= f;
+    fdamp *= f;
+    tau_twist *= f;
+    for (double &d : dissipated) d *= f;
+    for (double &e : elastic) e *= f;
+    power *= f;
+  }
 };
 
 /// Dashpot forces and pending half-step works kept per contact for the energy count
@@ -242,11 +263,13 @@ class ContactModel {
   void history_signs(double *sign) const
   {
     for (int k = 0; k < slots.size; k++) sign[k] = 1.0;
+    // seen from j, n and v_t flip, so xi and the tangential dashpot force do; the rolling
+    // velocity R* (w_i - w_j) x n and the twisting rate (w_i - w_j) . n do not (both factors
+    // flip), so the rolling and twisting displacements and dashpots keep their sign (native
+    // pair granular negates them too, which corrupts a contact whose pair order changes at a
+    // rebuild, migration or restart); F_d along n and the works do not flip
     if (slots.xi >= 0) for (int k = 0; k < 3; k++) sign[slots.xi + k] = -1.0;
-    if (slots.roll >= 0) for (int k = 0; k < 3; k++) sign[slots.roll + k] = -1.0;
-    if (slots.twist >= 0) sign[slots.twist] = -1.0;
-    // the dashpot forces flip (tangential, rolling, twisting); F_d along n and the works do not
-    if (slots.damp >= 0) for (int k = 1; k < 8; k++) sign[slots.damp + k] = -1.0;
+    if (slots.damp >= 0) for (int k = 1; k < 4; k++) sign[slots.damp + k] = -1.0;
   }
 
   /// The last step's contact radius is kept: rescale models (native), and for the energy of
