@@ -78,11 +78,14 @@ def _material_words(pair: tuple[float, float] | None, units: str) -> str:
 
 def contact_words(law: DemLaw, sub: SubModels, units: str, *, E: float | None = None,
                   nu: float | None = None, wall: Wall | None = None,
-                  wall_material: tuple[float, float] | None = None) -> str:
+                  wall_material: tuple[float, float] | None = None,
+                  particle: tuple[float, float] | None = None) -> str:
     """The one writer of contact keywords: a pair_coeff line's after the types
     (``NORMAL E NU [W] damping ... tangential ...``) or, with ``wall``, a wall fix's after
     ``viscontact/wall`` (``GEOMETRY wall_material ... [normal dmt|jkr W] damping ...
-    [temperature T] [wiggle|shear ...]``); ``wall_material`` None is rigid."""
+    [temperature T] [wiggle|shear ...] [particle E NU]``); ``wall_material`` None is rigid;
+    ``particle`` (E [Pa], nu): the particles' material on the wall line (None: the fix takes
+    it from the pair_coeff lines)."""
     if wall is None:
         return f"{sub.normal.pair_words(E, nu, units)} {sub.tail(law, units, pair=True)}"
     if sub.heat is not None and wall.temperature is None:
@@ -90,6 +93,8 @@ def contact_words(law: DemLaw, sub: SubModels, units: str, *, E: float | None = 
                          "temperature=T) or --wall-temperature T)")
     words = [wall.geometry(units), _material_words(wall_material, units), sub.normal.wall_words(units),
              sub.tail(law, units, pair=False), wall.motion_words(sub, units)]
+    if particle is not None:
+        words.append(f"particle {_num(convert(particle[0], 'pressure', units))} {_num(particle[1])}")
     return " ".join(w for w in words if w)
 
 
