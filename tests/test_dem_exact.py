@@ -3,7 +3,7 @@
 Every collision is set up as a user would: ``viscontact.dem.contact_law`` and
 ``viscontact.dem.coeff_lines`` give the ``pair_coeff * *`` line and the
 ``fix vcwall all viscontact/wall zplane 0.0 NULL ...`` line pasted unchanged into the input
-(``tests/dem_collide.py`` runs and measures; it knows nothing of the force law).
+(``scripts/dem_collide.py`` runs and measures; it knows nothing of the force law).
 
 1. Every law, clamp on (``end force``) and off (``end overlap``), two equal spheres head-on and
    a sphere on a wall, three speeds (0.5, 1, 2 x vref): DEM e, t_c, F_max against
@@ -33,23 +33,13 @@ pytestmark = needs_lammps
 import viscontact as vc  # noqa: E402
 from viscontact import dem  # noqa: E402
 
-import dem_collide as dc  # noqa: E402
+import dem_collide as dc  # noqa: E402  (scripts/dem_collide.py, shared with scripts/dem_exact_table.py)
+from dem_collide import (  # noqa: E402  the cases, the same in the table script
+    ALOX, ANGLES, CASES, E4, ELASTIC, LAWS, MAT, MU, R4, RADIUS, SPEEDS, V4, law_for,
+)
 
-MAT = dc.Material(E=1.0e7, nu=0.3, rho=2500.0)    # soft spheres: overlaps of a few % of R
-RADIUS = 0.01
-VREF = 1.0
-SPEEDS = (0.5, 1.0, 2.0)
-E_TARGET = 0.7
-LAWS = {"LH": {}, "Ts": {}, "KK": {}, "Li": {}, "Hunt": {}, "Jian": {"beta": 0.5},
-        "power": {"p": 0.75}}
-CASES = [(law, end) for end in ("force", "overlap") for law in LAWS]
 TOL = 1e-3
 MIN_ORDER = 0.9
-
-
-def law_for(name: str, end: str) -> dem.DemLaw:
-    """The law calibrated exactly to e = 0.7 at vref = 1 m/s (alpha_from_e)."""
-    return dem.contact_law(name, e=E_TARGET, vref=VREF, end=end, **LAWS[name])
 
 
 def errors(setup: dc.Setup) -> np.ndarray:
@@ -90,8 +80,6 @@ def test_dem_converges_at_least_linearly(name, end):
 
 
 # ---- Chung & Ooi (2011), SPEC section 9 --------------------------------------------------------
-
-ELASTIC = dem.contact_law("KK", c0=0.0)
 
 
 def hertz_errors(setup: dc.Setup) -> np.ndarray:
@@ -134,11 +122,6 @@ def test_chung_ooi_3_measured_e_is_input_e(name, material):
         assert abs(m.e - e_in) < TOL, f"{name}: e in {e_in}, measured {m.e}"
 
 
-# test 4: oblique impacts, Al oxide on Al oxide, |v| = 3.9 m/s, mu = 0.092, e = 0.98 (Ts: e does
-# not depend on the normal speed, so e = 0.98 at every angle)
-MU, E4, V4, R4 = 0.092, 0.98, 3.9, 0.0025
-ALOX = dc.Material(380e9, 0.23, 4000)
-ANGLES = tuple(range(5, 90, 5))
 
 
 @pytest.fixture(scope="module")

@@ -243,7 +243,7 @@ def _parse_type(spec: str, index: int) -> dict[str, object]:
 
 def _parse_wall(words: list[str], default_material: object, motion: dict):
     """``[STYLE ARGS] [rigid|same|E NU]`` -> a Wall (``motion``: wiggle, shear, temperature)."""
-    from ..dem.coeff import Wall
+    from ..dem.materials import Wall
 
     geometry: tuple[str, tuple[float | None, ...]] = ("zplane", (0.0, None))
     rest = list(words)

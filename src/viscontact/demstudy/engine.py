@@ -19,7 +19,10 @@ from importlib import resources
 from pathlib import Path
 
 from . import jobs
+from ..dem.coeff import contact_words
 from ..dem.io import read_dump, read_log as read_thermo
+from ..dem.materials import Wall as DemWall
+from ..dem.submodels import SubModels
 from ..dem.run import LammpsError, run_in_dir, stop_on_signals
 from ..physics.laws import Jian, KK, LH, Ts
 
@@ -57,6 +60,12 @@ class Wall:
     fix_id: str
     style: str
 
+    def geometry(self) -> DemWall:
+        """The wall as :class:`viscontact.dem.Wall` (rigid, no motion), for the one writer of
+        wall lines; ``style`` ``zplane 0.0 NULL`` is read as the style and its LO HI."""
+        kind, *args = self.style.split()
+        return DemWall(kind, tuple(None if a == "NULL" else float(a) for a in args))
+
 
 def backend() -> str:
     """``plugin`` (the viscontact LAMMPS plugin, built if needed), or ``native`` when
@@ -81,11 +90,11 @@ def _plugin_text(law: LawSpec, mat: Material, walls: Sequence[Wall]) -> str:
     dl = dem.contact_law(law.model, e=law.e, vref=law.vref,
                          beta=law.beta if law.model == Jian.name else None)
     lines = dem.coeff_lines(dl, E=mat.E, nu=mat.nu, friction=mat.mu)
-    tang = "none" if mat.mu is None else f"mindlin {mat.mu!r}"
+    sub = SubModels.build(friction=mat.mu)
     out = [str(lines).rstrip()]
     for w in walls:
-        out.append(f"fix {w.fix_id} all viscontact/wall {w.style} wall_material rigid "
-                   f"{dl.keywords()} tangential {tang} particle {mat.E!r} {mat.nu!r}")
+        out.append(f"fix {w.fix_id} all viscontact/wall " + contact_words(
+            dl, sub, "si", wall=w.geometry(), wall_material=None, particle=(mat.E, mat.nu)))
     return "\n".join(out) + "\n"
 
 

@@ -1,4 +1,5 @@
-/* pair_style viscontact (see pair_viscontact.h; physics in viscontact_contact.h, SPEC section 9).
+/* pair_style viscontact (see pair_viscontact.h; physics in viscontact_contact.h: Hertz with the
+   viscoelastic damping terms of Jian et al., Powder Technol. 356 (2019) 735).
    This file is part of viscontact.  Compiled into a LAMMPS plugin it links GPL-2 LAMMPS. */
 
 #include "pair_viscontact.h"
@@ -270,9 +271,10 @@ void PairViscontact::init_style()
   set_cutoff_radii();
 }
 
-/* The radii the cutoff must cover (SPEC 10.7, native pair granular's rule): per type, the
-   largest radius that fix pour or fix deposit will insert (`extract("radius", type)`; pours
-   first, then deposits, a later positive value overwriting an earlier one), raised to the
+/* The radii the cutoff must cover (native pair granular's rule, measured on LAMMPS
+   22Jul2025): per type, the largest radius that fix pour or fix deposit will insert
+   (`extract("radius", type)`; pours first, then deposits, a later positive value overwriting
+   an earlier one), raised to the
    largest radius of the moving atoms present; separately the largest radius of frozen atoms
    (fix freeze).  Maxima over all ranks. */
 void PairViscontact::set_cutoff_radii()
@@ -371,7 +373,7 @@ double PairViscontact::init_one(int i, int j)
 
   if (cut_user[i][j] > 0.0) return cut_user[i][j];
   if (cut_global > 0.0) return cut_global;
-  // cutoff: the reach of the largest spheres that can meet (SPEC 10.7)
+  // cutoff: the reach of the largest spheres that can meet (native pair granular's rule)
   const vc::ContactModel &m = models[i][j];
   auto reach = [&m](double r1, double r2) {
     return r1 + r2 + m.pulloff_distance(r1 * r2 / (r1 + r2));

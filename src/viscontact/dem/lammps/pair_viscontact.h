@@ -11,8 +11,8 @@
        TMODEL = none | linear_nohistory XGAMMA MU | linear_history KT XGAMMA MU
               | mindlin[_rescale][/force] KT|NULL XGAMMA MU | mindlin MU
 
-   The force law is viscontact_contact.h; SPEC sections 9-10 have the physics, the user's
-   reference is docs/pair_viscontact.md.  Cutoff (SPEC 10.7, as pair granular): per type the
+   The force law is viscontact_contact.h (its header cites the papers), the user's
+   reference is docs/pair_viscontact.md.  Cutoff (as native pair granular, measured): per type the
    largest radius of moving atoms (and of what fix pour / fix deposit will insert) and of frozen
    atoms; a sphere that outgrows it later stops the run with an error.  m*: viscontact_lammps.h.
 

@@ -5,20 +5,23 @@
    as SI (kg, m, s, N, Pa); every expression holds in any consistent unit system (LAMMPS `units
    si`, `cgs`, `micro`, ...), with c0 in force time / length^(1+p) of that system.
 
-   Normal law (SPEC sections 1-3, 9), one contact with overlap delta > 0:
+   Normal law (Hertz spring with the damping terms compared by Jian et al., Powder Technol.
+   356 (2019) 735), one contact with overlap delta > 0:
 
        F_n = k delta^(3/2) + c0 g(t_c) delta^p ddelta,     k = (4/3) E* sqrt(R*)
        g(t) = 1 - exp(-t / tau)   (Jian, tau > 0);   g = 1   (every other law, tau = 0)
 
    ddelta = d(delta)/dt, positive while the spheres approach; t_c = time since the contact began.
-   FORM alpha gives c0 and tau per contact from that contact's m*, R* (SPEC section 3):
+   FORM alpha gives c0 and tau per contact from that contact's m*, R* (Jian et al. 2019's
+   non-dimensional damping constant alpha at the reference speed vref):
 
        c0  = alpha m*^((3-2p)/5) vref^((1-4p)/5) k^((2+2p)/5)
        tau = beta T_ref,   T_ref = (m*^2 / (k^2 vref))^(1/5)
 
-   Tangential (SPEC section 9): Mindlin no-slip stiffness k_t = 8 G* a, a = sqrt(R* delta),
-   spring displacement xi kept per contact, rotated into the current tangent plane each step,
-   Coulomb limit |F_t| <= mu |F_n|; the arithmetic follows LAMMPS `pair granular`
+   Tangential (Mindlin 1949; LAMMPS granular docs, `tangential mindlin`): Mindlin no-slip
+   stiffness k_t = 8 G* a, a = sqrt(R* delta), spring displacement xi kept per contact,
+   rotated into the current tangent plane each step, Coulomb limit |F_t| <= mu |F_n|; the
+   arithmetic follows LAMMPS `pair granular`
    `tangential mindlin NULL 0.0 MU` (no tangential damping).
 
    This file is part of viscontact.  Compiled into a LAMMPS plugin it links GPL-2 LAMMPS.
@@ -155,7 +158,7 @@ inline double mix_Gstar(double E1, double nu1, double E2, double nu2)
 /// Hertz stiffness k = (4/3) E* sqrt(R*) [N/m^1.5].
 inline double hertz_stiffness(double Estar, double reff) { return 4.0 / 3.0 * Estar * std::sqrt(reff); }
 
-/// Relaxation factor g(t) = 1 - exp(-t/tau) of Jian's law (SPEC section 2); 1 when tau <= 0
+/// Relaxation factor g(t) = 1 - exp(-t/tau) of Jian's law (Jian et al. 2019); 1 when tau <= 0
 /// (every other law).  t [s] since the contact began, tau [s].
 inline double relaxation(double t, double tau)
 {

@@ -2,7 +2,7 @@
    in one place: the effective mass m* of a contact (frozen partners, rigid bodies) and the
    checks of fixes that the contact model cannot serve (heat conduction).
 
-   m* (SPEC section 10.6, as LAMMPS `pair granular` and `fix wall/gran`):
+   m* (as LAMMPS `pair granular` and `fix wall/gran` take it, measured on LAMMPS 22Jul2025):
      - m_i is the atom's rmass, or the total mass of its body when it belongs to a body of the
        one rigid-body fix (`fix rigid`, `rigid/small`, ...; refreshed at every neighbour-list
        build, sent to ghost atoms by the pair);

@@ -1,6 +1,6 @@
 """Single collisions inside LAMMPS (pair viscontact, fix viscontact/wall) measured the way an
 experimenter would, for the DEM-versus-exact tests (``tests/test_dem_exact.py``) and the table
-script (``scripts/dem_exact_table.py``).
+script (``scripts/dem_exact_table.py``), with the cases both use (at the end of this module).
 
 Many independent collisions share one in-process LAMMPS run (one atom type, one law): equal
 spheres head-on far apart from each other, and spheres falling on the wall z = 0.  The input is
@@ -315,3 +315,28 @@ def exact(setup: Setup, shot: Shot) -> vc.ImpactResult:
 @functools.lru_cache(maxsize=4096)
 def _impact(model, m_eff, k, v, c, tau, p, end):
     return vc.impact(model, m_eff=m_eff, k_hertz=k, v=v, c=c, tau=tau, p=p, end=end)
+
+
+# ---- the cases of tests/test_dem_exact.py and scripts/dem_exact_table.py ----------------------
+MAT = Material(E=1.0e7, nu=0.3, rho=2500.0)    # soft spheres: overlaps of a few % of R
+RADIUS = 0.01
+VREF = 1.0
+SPEEDS = (0.5, 1.0, 2.0)
+E_TARGET = 0.7
+LAWS = {"LH": {}, "Ts": {}, "KK": {}, "Li": {}, "Hunt": {}, "Jian": {"beta": 0.5},
+        "power": {"p": 0.75}}
+CASES = [(law, end) for end in ("force", "overlap") for law in LAWS]
+
+
+def law_for(name: str, end: str) -> dem.DemLaw:
+    """The law calibrated exactly to e = 0.7 at vref = 1 m/s (alpha_from_e)."""
+    return dem.contact_law(name, e=E_TARGET, vref=VREF, end=end, **LAWS[name])
+
+
+#: Chung & Ooi (2011) tests 1-3: the elastic contact
+ELASTIC = dem.contact_law("KK", c0=0.0)
+# test 4: oblique impacts, Al oxide on Al oxide, |v| = 3.9 m/s, mu = 0.092, e = 0.98 (Ts: e does
+# not depend on the normal speed, so e = 0.98 at every angle)
+MU, E4, V4, R4 = 0.092, 0.98, 3.9, 0.0025
+ALOX = Material(380e9, 0.23, 4000)
+ANGLES = tuple(range(5, 90, 5))
