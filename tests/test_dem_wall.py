@@ -277,7 +277,7 @@ BAD = [
     (GOOD.replace("mindlin 0.3", "mindlin -0.1"),
      "tangential mindlin MU must be a finite number in [0, 10]"),
     (GOOD.replace("tangential mindlin 0.3", "tangential coulomb"),
-     "tangential must be followed by one of none, linear_nohistory"),
+     "tangential must be followed by none or mindlin MU, or linear_nohistory"),
     (GOOD.replace(" tangential mindlin 0.3", ""), "missing tangential"),
     (GOOD.replace("end force", "end sideways"), "end must be followed by force"),
     (GOOD.replace("damping KK alpha 0.2 vref 1.0 ", ""), "missing damping LAW"),

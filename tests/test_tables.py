@@ -193,7 +193,7 @@ def test_cache_corrupt_file_is_rebuilt(fresh_cache):
 _COUNTED_BUILD = """
 import sys, time
 import numpy as np
-from viscontact import tables
+from viscontact.calibration import tables
 def build(law, end):
     print("built", flush=True)
     time.sleep(1.0)
