@@ -588,26 +588,39 @@ void FixWallViscontact::post_force(int /*vflag*/)
     if (!update_history) continue;
     // faces no longer touching: their contacts end (their elastic energy is released into
     // the dissipated columns); a face found again later starts from zero
-    end_contacts(i, nkept);
+    end_contacts(i, nkept, wallstyle <= ZPLANE ? vplane : nullptr);
     store[i][0] = nkept;
     for (int q = 0; q < nkept * slotsize; q++) store[i][1 + q] = kept[q];
   }
 }
 
 /* The stored contacts of atom i that are not among the first nkept of `kept` (all of them for
-   nkept < 0) end now: with the energy tally on, each releases its last elastic energy into the
-   dissipated columns (as pair viscontact does).  Clears the store for nkept < 0. */
-void FixWallViscontact::end_contacts(int i, int nkept)
+   nkept < 0) end now: with the energy tally on, each releases its last elastic energy and the
+   second half of its last forces' work into the dissipated columns (as pair viscontact does;
+   on this step's velocities where the wall's is known, vplane of a plane wall).  Clears the
+   store for nkept < 0. */
+void FixWallViscontact::end_contacts(int i, int nkept, const double *vplane)
 {
   const int nold = static_cast<int>(store[i][0]);
   if (energy_on) {
     const viscontact::ContactModel &m = type_model[atom->type[i]];
+    viscontact::ContactGeometry now;
+    if (vplane) {
+      for (int d = 0; d < 3; d++) {
+        now.vr[d] = atom->v[i][d] - vplane[d];
+        now.omega_i[d] = atom->omega[i][d];
+        now.omega_j[d] = 0.0;
+      }
+      now.reff = atom->radius[i];    // a plane: R* = r
+      now.dt = update->dt;
+      now.wall = true;
+    }
     for (int k = 0; k < nold; k++) {
       const double *s = slot(i, k);
       bool found = false;
       for (int q = 0; q < nkept && !found; q++)
         found = static_cast<int>(kept[static_cast<size_t>(q) * slotsize]) == static_cast<int>(s[0]);
-      if (!found) m.release(s + 1, ediss[i]);
+      if (!found) m.release(s + 1, ediss[i], vplane ? &now : nullptr);
     }
   }
   if (nkept < 0) store[i][0] = 0.0;

@@ -173,7 +173,7 @@ class FixWallViscontact : public Fix, public viscontact::EnergySource {
   double parse_coordinate(const std::string &key, const char *text, bool &present);
   int parse_dim(const std::string &key, const std::string &text);
   void contact(int i, double *hist, const Touch &c, bool update_history, double t_now);
-  void end_contacts(int i, int nkept);
+  void end_contacts(int i, int nkept, const double *vplane = nullptr);
   double effective_radius(double r, double rwall) const
   {
     return rwall == 0.0 ? r : r * rwall / (r + rwall);

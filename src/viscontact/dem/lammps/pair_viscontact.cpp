@@ -512,7 +512,11 @@ void PairViscontact::compute(int eflag, int vflag)
           !(beyond_contact && fl[jj] && m.touching(rsq, radsum, radi * radj / radsum, true))) {
         // apart (jkr: beyond pull-off): the contact (if any) has ended; a new one starts afresh
         if (history_update && fl[jj]) {
-          if (tally) tally->add_release(i, j, nlocal, newton_pair, m, h, factor_lj);
+          if (tally) {
+            // the last forces' second half-work, on this step's velocities
+            pair_geometry(i, j, dx, rsq, masses.pair_meff(i, j, rmass, mask), g);
+            tally->add_release(i, j, nlocal, newton_pair, m, h, factor_lj, &g);
+          }
           fl[jj] = 0;
           for (int k = 0; k < dnum; k++) h[k] = 0.0;
         }
@@ -742,10 +746,10 @@ void PairViscontact::EnergyTally::add_pair(int i, int j, int nlocal, int newton_
 
 void PairViscontact::EnergyTally::add_release(int i, int j, int nlocal, int newton_pair,
                                                const vc::ContactModel &m, const double *h,
-                                               double factor)
+                                               double factor, const vc::ContactGeometry *now)
 {
   double d[vc::NDISS] = {0.0};
-  m.release(h, d);
+  m.release(h, d, now);
   for (double &x : d) x *= factor;
   for (int side = 0; side < 2; side++) {
     const int a = side ? j : i;

@@ -93,12 +93,13 @@ class PairViscontact : public Pair {
   bigint radii_checked_run[2];    // first and last step of the run whose radii were checked
   class FixViscontactHistory *fix_history;
 
-  static constexpr int MAX_HISTORY = 32;    // the largest ContactModel::history_size() (29)
+  static constexpr int MAX_HISTORY = 40;    // the largest ContactModel::history_size() (36)
   struct EnergyTally {
     std::vector<double> diss, elastic;    // this step, per atom (local and ghost)
     void add_pair(int i, int j, int nlocal, int newton_pair, const viscontact::ContactResult &r);
     void add_release(int i, int j, int nlocal, int newton_pair, const viscontact::ContactModel &m,
-                     const double *h, double factor);
+                     const double *h, double factor,
+                     const viscontact::ContactGeometry *now = nullptr);
   };
   EnergyTally tally_;
   bool energy_requested = false;

@@ -27,15 +27,24 @@
    ddelta = -v_n; the tangential damping is XGAMMA times the (unclamped) prefactor.
 
    Energy (per evaluation that advances the history): dissipated energy by mechanism
-   (DISS_* below) and the elastic energy stored now (ELASTIC_*), so that kinetic + rotational +
-   elastic + dissipated is conserved to first order in dt:
-     normal damping  -(F_n - F_ne) v_n dt            (the clamp included)
-     tangential damping, rolling, twisting: eta |v|^2 dt of their dashpots
-     sliding (and rolling/twisting slip): the spring energy the Coulomb cap removes,
-       (1/2) k (|xi_before|^2 - |xi_after|^2), plus, for a pair, the work of F_t on the lever-arm
-       difference (delta/2)(w_i + w_j) x n that the spring never sees
-     adhesion hysteresis: the JKR energy released when a contact forms (its elastic energy jumps
-       from 0 to U(delta) < 0); U is zero at pull-off, so breaking releases nothing more.
+   (DISS_* below) and the elastic energy stored now (ELASTIC_*).  A force's work over a step is
+   what velocity Verlet does: the trapezoid (W_last + W_now)/2, each half the force (and its
+   torques) of one evaluation, in that evaluation's geometry (normal, lever arms), on this
+   step's displacements v dt and w dt (the velocities an evaluation sees are the half-step
+   ones, so v dt is exactly the step's displacement).  So that kinetic + rotational + elastic +
+   dissipated is conserved to O(dt^2) (the normal spring's exact U against the trapezoid):
+     normal damping  -W of F_d n = (F_n - F_ne) n      (the clamp included)
+     tangential damping  -W of the tangential dashpot, -eta_t v_tr, with its torques
+     sliding  -W of the tangential force minus the change of the spring energy, minus the
+       tangential damping: the Coulomb slip, the energy the mindlin stiffness change and the
+       rescale take from the spring, and the turning of the spring with the contact plane
+       (native's rotate-and-rescale of the history, O(dt) over a run, which the spring energy
+       alone does not see)
+     rolling, twisting  -W of the rolling / twisting torque minus the change of its spring
+       energy (dashpot, slip, and the spring's turning with the plane)
+     adhesion hysteresis (jkr, dmt): when a contact forms, the energy its elastic force's jump
+       takes, -U(delta) - W_now of F_ne over the step before (no force at its start); when it
+       ends (pull-off), the energy it still holds (release()).
    Elastic: normal U(delta) = int F_ne d(delta) (hertz (2/5) k_H delta^(5/2), dmt minus F_po
    delta, jkr from -delta_c), tangential (1/2) k_t |xi|^2 (|h|^2/(2 k_t) for the force forms),
    rolling (1/2) KR |xi_R|^2, twisting (1/2) k_tw xi_tw^2.
@@ -156,7 +165,7 @@ struct ContactResult {
 
 /// Dashpot forces and pending half-step works kept per contact for the energy count
 /// (HistorySlots::damp, track_energy only).
-constexpr int NDAMP = 14;
+constexpr int NDAMP = 23;
 
 /// History slot offsets of a model (-1: absent).  The total is history_size().
 struct HistorySlots {
@@ -165,16 +174,18 @@ struct HistorySlots {
   int energy = -1;     ///< the contact's accumulated dissipated energy (track_energy)
   int elastic = -1;    ///< its elastic energy parts at the last step (NELASTIC, track_energy)
   int xi = -1;         ///< tangential displacement xi or elastic force h (3)
-  int a_prev = -1;     ///< contact radius of the last step (mindlin family, marshall)
+  int a_prev = -1;     ///< contact radius of the last step (the rescale models)
   int roll = -1;       ///< rolling displacement (3)
   int twist = -1;      ///< twisting angle (1)
-  /// the dashpot forces of the last step (0 normal F_d, 1-3 tangential, 4-6 rolling, 7 twisting
-  /// torque): each dashpot's work over a step is the trapezoid (F_last + F_now)/2 . v dt, the
-  /// work velocity Verlet does (the force of step n acts on the displacements before and
-  /// after); 8-13 the second half of the last forces' work, -(F_last/2) . v dt with this step's
-  /// v (normal damping, tangential damping, rolling, twisting, the elastic normal force, the
-  /// tangential spring), counted by release() when the contact ends (its next displacement is
-  /// v dt to first order: O(dt^2) per contact).  NDAMP values, track_energy only.
+  /// the last evaluation's forces in its geometry, for the first half of each force's work
+  /// over this step (the trapezoid of velocity Verlet): 0 normal F_d, 1-3 tangential dashpot
+  /// force, 4-6 rolling pseudo-force F_r, 7 twisting torque, 14-16 the normal n, 17-19 the
+  /// tangential force F_t, 20-21 the lever arms d_i + d_j and d_i - d_j (so that an i <-> j
+  /// flip negates a slot rather than swapping two), 22 the elastic normal force F_ne; 8-13 the
+  /// second half of the last forces' work, -(W_last/2) with the last step's velocities (normal
+  /// damping, tangential damping, rolling, twisting, the elastic normal force, the tangential
+  /// spring), counted by release() when the contact ends and the caller has no velocities for
+  /// this step (O(dt^2) per contact).  NDAMP values, track_energy only.
   int damp = -1;
   int size = 1;
 };
@@ -267,17 +278,18 @@ class ContactModel {
     // velocity R* (w_i - w_j) x n and the twisting rate (w_i - w_j) . n do not (both factors
     // flip), so the rolling and twisting displacements and dashpots keep their sign (native
     // pair granular negates them too, which corrupts a contact whose pair order changes at a
-    // rebuild, migration or restart); F_d along n and the works do not flip
+    // rebuild, migration or restart); F_d along n and the works do not flip; the last n, F_t
+    // and d_i - d_j do
     if (slots.xi >= 0) for (int k = 0; k < 3; k++) sign[slots.xi + k] = -1.0;
-    if (slots.damp >= 0) for (int k = 1; k < 4; k++) sign[slots.damp + k] = -1.0;
+    if (slots.damp >= 0) {
+      for (int k = 1; k < 4; k++) sign[slots.damp + k] = -1.0;
+      for (int k = 14; k < 20; k++) sign[slots.damp + k] = -1.0;
+      sign[slots.damp + 21] = -1.0;
+    }
   }
 
-  /// The last step's contact radius is kept: rescale models (native), and for the energy of
-  /// springs whose stiffness grows with a (mindlin family, marshall twisting).
-  bool needs_aprev() const
-  {
-    return rescale() || (track_energy && (mindlin() || twisting.kind == TwistingKind::Marshall));
-  }
+  /// The last step's contact radius is kept by the rescale models (native).
+  bool needs_aprev() const { return rescale(); }
   bool cohesive() const { return normal.kind != NormalKind::Hertz; }
   bool beyond_contact() const { return normal.kind == NormalKind::JKR; }
   bool has_tangential_history() const
@@ -319,10 +331,13 @@ class ContactModel {
     return rsq < radsum * radsum;
   }
 
-  /// When a contact ends (apart, or beyond pull-off), the elastic energy it still holds is lost:
-  /// adds it to diss[NDISS] (normal part: adhesion hysteresis, the JKR pull-off jump; springs:
-  /// sliding, rolling, twisting) and returns the total.
-  double release(const double *h, double *diss) const
+  /// When a contact ends (apart, or beyond pull-off), the elastic energy it still holds is lost,
+  /// and so is the second half of its last forces' work (they acted over the step that parted
+  /// it): adds both to diss[NDISS] (normal part: adhesion hysteresis, the pull-off jump;
+  /// springs: sliding, rolling, twisting) and returns the total.  now: this step's velocities
+  /// and dt (vr, omega_i, omega_j, reff, dt, wall; the rest unused), or nullptr where the caller
+  /// has none (the last step's are used then).
+  double release(const double *h, double *diss, const ContactGeometry *now = nullptr) const
   {
     if (slots.elastic < 0) return 0.0;
     const double *e = &h[slots.elastic];
@@ -330,7 +345,13 @@ class ContactModel {
     diss[DISS_SLIDING] += e[ELASTIC_TANGENTIAL];
     diss[DISS_ROLLING] += e[ELASTIC_ROLLING];
     diss[DISS_TWISTING] += e[ELASTIC_TWISTING];
-    const double *p = &h[slots.damp + 8];    // the dashpots' pending half-step of work
+    double p[NLAST];
+    if (now) {
+      last_half_works(h, *now, p);
+      for (double &x : p) x = -x;
+    } else {
+      for (int k = 0; k < NLAST; k++) p[k] = h[slots.damp + 8 + k];
+    }
     diss[DISS_NORMAL_DAMPING] += p[0];
     diss[DISS_TANGENTIAL_DAMPING] += p[1];
     diss[DISS_ROLLING] += p[2];
@@ -348,6 +369,12 @@ class ContactModel {
 
  private:
   HistorySlots slots;
+  /// The works of the last evaluation's forces (in its geometry, stored in the damp slots) over
+  /// this step, the first half of the trapezoid, on the bodies [energy]: normal damping,
+  /// tangential damping, rolling, twisting, elastic normal, tangential spring (force minus
+  /// dashpot).  All 0 for a new contact.
+  static constexpr int NLAST = 6;
+  void last_half_works(const double *h, const ContactGeometry &g, double *w) const;
 };
 
 /* ---- implementation ------------------------------------------------------------------------ */
@@ -360,14 +387,21 @@ inline void cross3(const double *a, const double *b, double *c)
   c[1] = a[2] * b[0] - a[0] * b[2];
   c[2] = a[0] * b[1] - a[1] * b[0];
 }
-/// Work of a unit-stiffness spring's force over a Coulomb slip, as velocity Verlet applies it:
-/// the force averaged over the step (trapezoid, exact for a linear spring) times the slip,
-/// (1/2)(x_old + x_post) . (x_pre - x_post).
-inline double trapezoid_slip(const double *x_old, const double *x_pre, const double *x_post)
+/// Power of a tangential force F on i (-F on j) with its torques -d_i (n x F) on i and
+/// -d_j (n x F) on j: F . v_r - (n x F) . (d_i w_i + d_j w_j) (a wall: no j).
+inline double tangential_power(const double *F, const double *n, const double *d,
+                               const ContactGeometry &g)
 {
-  double w = 0.0;
-  for (int k = 0; k < 3; k++) w += 0.5 * (x_old[k] + x_post[k]) * (x_pre[k] - x_post[k]);
-  return w;
+  double nxF[3], w[3];
+  cross3(n, F, nxF);
+  for (int k = 0; k < 3; k++) w[k] = d[0] * g.omega_i[k] + (g.wall ? 0.0 : d[1] * g.omega_j[k]);
+  return dot3(F, g.vr) - dot3(nxF, w);
+}
+
+/// w_i - w_j (a wall: w_i).
+inline void relative_rotation(const ContactGeometry &g, double *rel)
+{
+  for (int k = 0; k < 3; k++) rel[k] = g.wall ? g.omega_i[k] : g.omega_i[k] - g.omega_j[k];
 }
 
 /// Project v onto the plane normal to n and restore its length.
@@ -382,12 +416,31 @@ inline void rotate_rescale(double *v, const double *n)
 }
 }    // namespace detail
 
+inline void ContactModel::last_half_works(const double *h, const ContactGeometry &g, double *w) const
+{
+  using detail::dot3;
+  const double *dp = &h[slots.damp];
+  const double n_last[3] = {dp[14], dp[15], dp[16]};    // 0 for a new contact: no force then
+  const double arms_last[2] = {0.5 * (dp[20] + dp[21]), 0.5 * (dp[20] - dp[21])};
+  const double half = 0.5 * g.dt;
+  const double vn_last = dot3(n_last, g.vr);
+  double rel[3], tr[3];
+  detail::relative_rotation(g, rel);
+  detail::cross3(n_last, &dp[4], tr);
+  const double p_damp = detail::tangential_power(&dp[1], n_last, arms_last, g);
+  w[0] = half * dp[0] * vn_last;
+  w[1] = half * p_damp;
+  w[2] = half * g.reff * dot3(tr, rel);
+  w[3] = half * dp[7] * dot3(n_last, rel);
+  w[4] = half * dp[22] * vn_last;
+  w[5] = half * (detail::tangential_power(&dp[17], n_last, arms_last, g) - p_damp);
+}
+
 VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, double *__restrict h, bool advance,
                                    ContactResult &__restrict res) const
 {
   using detail::cross3;
   using detail::dot3;
-  using detail::trapezoid_slip;
   const double PI = 3.14159265358979323846;
   // local copies: the compiler need not reload them after each store into h or res
   const double n[3] = {g.n[0], g.n[1], g.n[2]};
@@ -407,9 +460,6 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
     h[slots.touch] = 1.0;
     if (slots.t0 >= 0) h[slots.t0] = contact_start_time(g.t_now, dt, delta, ddelta);
   }
-
-  // contact radius of the last step (mindlin stiffness, marshall twisting), before any update
-  const double a_old = slots.a_prev >= 0 ? h[slots.a_prev] : 0.0;
 
   // (2) contact radius, (3) elastic normal force and potential
   ContactCoeffs cc = g.coeffs ? *g.coeffs : contact_coeffs(law, g.meff, reff);
@@ -459,7 +509,7 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
   ft[0] = ft[1] = ft[2] = 0.0;
   const double eta_t = tangential.xgamma * eta_n;
   const double fscrit = tangential.mu * F0;
-  double dsl = 0.0, dtd = 0.0, el_t = 0.0;
+  double el_t = 0.0;
   double fdamp_t[3] = {0.0, 0.0, 0.0};    // the tangential dashpot force this step
   if (tangential.kind == TangentialKind::LinearNoHistory) {
     const double vrel = std::sqrt(dot3(vtr, vtr));
@@ -477,21 +527,14 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
     auto energy = [force_form](const double *x, double k) {
       return force_form ? (k > 0.0 ? 0.5 * dot3(x, x) / k : 0.0) : 0.5 * k * dot3(x, x);
     };
-    // stiffness change since the last step (mindlin: k a) and the rescale: energy that leaves
-    // the spring without work (signed; counted with sliding)
-    const double kt_old = mindlin() ? tangential_k() * a_old : kt;
-    const double el_old = E_on ? energy(xi, kt_old) : 0.0;
     if (rescale() && a < h[slots.a_prev]) {
       const double s = a / h[slots.a_prev];
       for (int k = 0; k < 3; k++) xi[k] *= s;
     }
-    if (E_on) dsl = el_old - energy(xi, kt);
-    double x_old[3];
     if (advance) {
       const double rsht = std::fabs(dot3(xi, n));
       if ((force_form ? rsht : rsht * kt) > 1e-10 * fscrit) detail::rotate_rescale(xi, n);
     }
-    for (int k = 0; k < 3; k++) x_old[k] = xi[k];    // in this step's tangent plane
     if (advance) {
       for (int k = 0; k < 3; k++) xi[k] += force_form ? -kt * dt * vtr[k] : dt * vtr[k];
       if (rescale()) h[slots.a_prev] = a;
@@ -502,10 +545,9 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
       ft[k] = (force_form ? xi[k] : -kt * xi[k]) + fdmp[k];
     }
     for (int k = 0; k < 3; k++) fdamp_t[k] = fdmp[k];
-    const double x_pre[3] = {xi[0], xi[1], xi[2]};
     const double magfs = std::sqrt(dot3(ft, ft));
     if (magfs > fscrit) {
-      if (dot3(x_pre, x_pre) != 0.0) {
+      if (dot3(xi, xi) != 0.0) {
         const double s = fscrit / magfs;
         const double back = force_form ? 1.0 : -1.0 / kt;
         for (int k = 0; k < 3; k++) {
@@ -513,13 +555,7 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
           xi[k] = (ft[k] - fdmp[k]) * back;
         }
         // the capped force is the rescaled spring plus the whole dashpot (native's rewrite of
-        // xi), so the whole dashpot still works (counted with the dashpots below).  Sliding
-        // friction: the slip (the displacement the cap removes) times the spring force averaged
-        // over the step (the trapezoid of velocity Verlet, under which a linear spring conserves
-        // energy exactly)
-        if (E_on)
-          dsl += force_form ? (kt > 0.0 ? trapezoid_slip(x_old, x_pre, xi) / kt : 0.0)
-                            : kt * trapezoid_slip(x_old, x_pre, xi);
+        // xi), so the whole dashpot still works: sliding is the rest of the force's work
       } else {
         ft[0] = ft[1] = ft[2] = 0.0;
         fdamp_t[0] = fdamp_t[1] = fdamp_t[2] = 0.0;
@@ -537,22 +573,13 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
     res.torque_i[k] = -di * nxf[k];
     res.torque_j[k] = g.wall ? 0.0 : -dj * nxf[k];
   }
-  if (!g.wall && E_on) {
-    // the torques act at r - delta/2, the slip velocity uses r: the work of F_t on the
-    // difference, -(delta/2) F_t . ((w_i + w_j) x n), leaves the bodies but not into the spring
-    double ws[3], wsxn[3];
-    for (int k = 0; k < 3; k++) ws[k] = g.omega_i[k] + g.omega_j[k];
-    cross3(ws, n, wsxn);
-    dsl -= 0.5 * delta * dot3(ft, wsxn) * dt;
-  }
 
   // (9) rolling
   double *fr = res.fr;
   fr[0] = fr[1] = fr[2] = 0.0;
-  double relrot[3] = {g.omega_i[0] - g.omega_j[0], g.omega_i[1] - g.omega_j[1],
-                      g.omega_i[2] - g.omega_j[2]};
-  if (g.wall) for (int k = 0; k < 3; k++) relrot[k] = g.omega_i[k];
-  double drl = 0.0, el_r = 0.0;
+  double relrot[3];
+  detail::relative_rotation(g, relrot);
+  double el_r = 0.0;
   if (rolling.kind == RollingKind::SDS) {
     double vrl[3];
     cross3(relrot, n, vrl);
@@ -560,31 +587,17 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
     double xr[3] = {h[slots.roll], h[slots.roll + 1], h[slots.roll + 2]};
     const double kr = rolling.k, frcrit = rolling.mu * F0;
     if (advance && std::fabs(dot3(xr, n)) * kr > 1e-10 * frcrit) detail::rotate_rescale(xr, n);
-    const double xr_old[3] = {xr[0], xr[1], xr[2]};
     if (advance) for (int k = 0; k < 3; k++) xr[k] += dt * vrl[k];
-    const double xr_pre[3] = {xr[0], xr[1], xr[2]};
     for (int k = 0; k < 3; k++) fr[k] = -kr * xr[k] - rolling.gamma * vrl[k];
     const double magfr = std::sqrt(dot3(fr, fr));
     if (magfr > frcrit) {
-      if (dot3(xr_pre, xr_pre) != 0.0) {
+      if (dot3(xr, xr) != 0.0) {
         for (int k = 0; k < 3; k++) xr[k] = -frcrit / (kr * magfr) * fr[k] - rolling.gamma / kr * vrl[k];
         const double s = frcrit / magfr;
         for (int k = 0; k < 3; k++) fr[k] *= s;
-        if (E_on) drl = kr * trapezoid_slip(xr_old, xr_pre, xr);
       } else {
         fr[0] = fr[1] = fr[2] = 0.0;
       }
-    }
-    if (E_on) {
-      // the rolling dashpot (its force acts through the torque R* n x F on w_i - w_j, i.e. on
-      // v_R): the trapezoid of the last and this step's force
-      double *dpr = &h[slots.damp + 4];
-      for (int k = 0; k < 3; k++) {
-        const double fnow = -rolling.gamma * vrl[k];
-        drl -= 0.5 * (dpr[k] + fnow) * vrl[k] * dt;
-        if (advance) dpr[k] = fnow;
-      }
-      if (advance) h[slots.damp + 10] = -0.5 * dot3(fr, vrl) * dt;
     }
     el_r = 0.5 * kr * dot3(xr, xr);
     if (advance) for (int k = 0; k < 3; k++) h[slots.roll + k] = xr[k];
@@ -598,7 +611,7 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
 
   // (10) twisting
   res.tau_twist = 0.0;
-  double dtw = 0.0, el_w = 0.0;
+  double el_w = 0.0;
   if (twisting.kind != TwistingKind::None) {
     double ktw, etw, tcrit;
     if (twisting.kind == TwistingKind::Marshall) {
@@ -612,27 +625,12 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
     }
     const double wt = dot3(relrot, n);
     double &xt = h[slots.twist];
-    // marshall: k_tw grows with a^2; the energy change at fixed angle is not work (signed)
-    const double ktw_old =
-        twisting.kind == TwistingKind::Marshall ? 0.5 * tangential_k() * a_old * a_old : ktw;
-    dtw = 0.5 * (ktw_old - ktw) * xt * xt;
-    const double xt_old = xt;
     if (advance) xt += wt * dt;
     double tq = -ktw * xt - etw * wt;
-    const double xt_pre = xt;
     const double sgn = (wt > 0.0) - (wt < 0.0);
     if (std::fabs(tq) > tcrit) {
       xt = (tcrit * sgn - etw * wt) / ktw;
-      dtw += 0.5 * ktw * (xt_old + xt) * (xt_pre - xt);
       tq = -tcrit * sgn;
-    }
-    if (E_on) {
-      const double tnow = -etw * wt;    // the twisting dashpot: trapezoid as the others
-      dtw -= 0.5 * (h[slots.damp + 7] + tnow) * wt * dt;
-      if (advance) {
-        h[slots.damp + 7] = tnow;
-        h[slots.damp + 11] = -0.5 * tq * wt * dt;
-      }
     }
     el_w = 0.5 * ktw * xt * xt;
     res.tau_twist = tq;
@@ -642,7 +640,6 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
     }
   }
 
-  if (advance && slots.a_prev >= 0 && !rescale()) h[slots.a_prev] = a;
 
   // (11) heat
   res.heat = heat.kind == HeatKind::Area ? heat.k * PI * a * a * (g.T_j - g.T_i) : 0.0;
@@ -659,29 +656,49 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
   res.elastic[ELASTIC_TANGENTIAL] = el_t;
   res.elastic[ELASTIC_ROLLING] = el_r;
   res.elastic[ELASTIC_TWISTING] = el_w;
-  // the dashpots' work: the trapezoid of the last and this step's force on this step's
-  // displacement (velocity Verlet's own rule; the right-point rule F_now . v dt alone is off by
-  // (dt/2) int F_d . dv, first order in dt)
+  // each force's work over this step: the trapezoid of the last evaluation's force in its
+  // geometry and this one's, both on this step's displacements (see the head of this file)
   double *dp = &h[slots.damp];
-  res.dissipated[DISS_NORMAL_DAMPING] = -0.5 * (dp[0] + (fn - fne)) * vn * dt;
-  for (int k = 0; k < 3; k++) dtd -= 0.5 * (dp[1 + k] + fdamp_t[k]) * vtr[k] * dt;
+  double wl[NLAST];
+  last_half_works(h, g, wl);
+  const double arms[2] = {di, g.wall ? 0.0 : dj};
+  const double half = 0.5 * dt;
+  const double p_damp = detail::tangential_power(fdamp_t, n, arms, g);
+  const double p_t = detail::tangential_power(ft, n, arms, g);
+  // rolling: the torque R* n x F_r on i (minus on j) on w_i - w_j; twisting: tau n likewise
+  double tr_now[3];
+  cross3(n, fr, tr_now);
+  const double p_r = reff * dot3(tr_now, relrot), p_w = res.tau_twist * dot3(n, relrot);
+  const double dtd = -(wl[1] + half * p_damp);
+  const double *el_last = &h[slots.elastic];
+  res.dissipated[DISS_NORMAL_DAMPING] = -(wl[0] + half * (fn - fne) * vn);
+  res.dissipated[DISS_TANGENTIAL_DAMPING] = dtd;
+  res.dissipated[DISS_SLIDING] =
+      -(wl[1] + wl[5] + half * p_t) - (el_t - el_last[ELASTIC_TANGENTIAL]) - dtd;
+  res.dissipated[DISS_ROLLING] = -(wl[2] + half * p_r) - (el_r - el_last[ELASTIC_ROLLING]);
+  res.dissipated[DISS_TWISTING] = -(wl[3] + half * p_w) - (el_w - el_last[ELASTIC_TWISTING]);
+  // snap-in (jkr, dmt): the elastic energy jumps from 0 (apart) to U, and the attraction did
+  // (F_ne/2) v_n dt over the step before (the trapezoid with no force at its start)
+  res.dissipated[DISS_ADHESION] = (fresh && cohesive()) ? -U - 0.5 * fne * vn * dt : 0.0;
   if (advance) {
     dp[0] = fn - fne;
-    for (int k = 0; k < 3; k++) dp[1 + k] = fdamp_t[k];
-    dp[8] = -0.5 * (fn - fne) * vn * dt;
-    dp[9] = -0.5 * dot3(fdamp_t, vtr) * dt;
-    dp[12] = -0.5 * fne * vn * dt;
-    dp[13] = -0.5 * (dot3(ft, vtr) - dot3(fdamp_t, vtr)) * dt;
+    for (int k = 0; k < 3; k++) {
+      dp[1 + k] = fdamp_t[k];
+      dp[4 + k] = fr[k];
+      dp[14 + k] = n[k];
+      dp[17 + k] = ft[k];
+    }
+    dp[7] = res.tau_twist;
+    dp[20] = arms[0] + arms[1];
+    dp[21] = arms[0] - arms[1];
+    dp[22] = fne;
+    dp[8] = -half * (fn - fne) * vn;
+    dp[9] = -half * p_damp;
+    dp[10] = -half * p_r;
+    dp[11] = -half * p_w;
+    dp[12] = -half * fne * vn;
+    dp[13] = -half * (p_t - p_damp);
   }
-  res.dissipated[DISS_TANGENTIAL_DAMPING] = dtd;
-  res.dissipated[DISS_SLIDING] = dsl;
-  res.dissipated[DISS_ROLLING] = drl;
-  res.dissipated[DISS_TWISTING] = dtw;
-  // JKR snap-in: the elastic energy jumps from 0 (apart) to U < 0
-  // and the attraction's work over the step before, (F_ne/2) times that step's approach (the
-  // trapezoid of velocity Verlet with no force at the step before)
-  res.dissipated[DISS_ADHESION] =
-      (fresh && normal.kind == NormalKind::JKR) ? -U - 0.5 * fne * vn * dt : 0.0;
   double sum = 0.0;
   for (int k = 0; k < NDISS; k++) sum += res.dissipated[k];
   res.power = dt > 0.0 ? sum / dt : 0.0;
