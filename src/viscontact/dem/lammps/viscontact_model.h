@@ -163,7 +163,7 @@ struct ContactResult {
   }
 };
 
-/// Dashpot forces and pending half-step works kept per contact for the energy count
+/// The last forces and pending half-step works kept per contact for the energy count
 /// (HistorySlots::damp, track_energy only).
 constexpr int NDAMP = 23;
 
