@@ -19,7 +19,8 @@ import numpy as np
 import pytest
 
 from dem_util import (
-    assert_ok, needs_lammps, needs_mpirun, plugin_line, read_atoms, run_lmp, write_sphere_data,
+    assert_ok, needs_lammps, needs_mpirun, plugin_line, rank_head, read_atoms, run_lmp,
+    write_sphere_data,
 )
 
 pytestmark = needs_lammps
@@ -35,17 +36,7 @@ COLUMNS = ("xu", "yu", "zu", "vx", "vy", "vz", "omegax", "omegay", "omegaz", "fx
 TOL_RANKS = 1e-10
 TOL_RESTART = 1e-10
 
-_HEAD = """\
-{plugin}
-units si
-atom_style sphere
-atom_modify map array
-boundary p p f
-newton {newton}
-comm_modify vel yes
-processors * 1 1
-read_data pack.data
-"""
+_HEAD = rank_head("p p f", "read_data pack.data")
 _MODEL = """\
 pair_style viscontact
 pair_coeff * * jkr 1e7 0.3 0.05 damping KK alpha 0.3 vref 1.0 tangential mindlin_rescale NULL 0.5 0.4 rolling sds 200 0.01 0.1 twisting sds 0.001 1e-9 0.05

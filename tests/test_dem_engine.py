@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 
 from dem_util import (
-    DROP_HISTORY, assert_ok, error_lines, needs_lammps, needs_mpirun, plugin_line, read_atoms, run_inprocess,
-    run_lmp, write_sphere_data,
+    DROP_HISTORY, assert_ok, error_lines, needs_lammps, needs_mpirun, plugin_line, rank_head, read_atoms,
+    run_inprocess, run_lmp, sphere_head, write_sphere_data,
 )
 from viscontact.physics.pair import damping_coefficient, time_scale
 
@@ -37,16 +37,7 @@ COLUMNS = ("xu", "yu", "zu", "vx", "vy", "vz", "omegax", "omegay", "omegaz")
 TOL = 1e-10
 
 #: the settling pack with the plugin's pair style ({pstyle}: its options), then {setup}
-_PACK_HEAD = """\
-{plugin}
-units si
-atom_style sphere
-atom_modify map array
-boundary p p f
-newton {newton}
-comm_modify vel yes
-processors * 1 1
-read_data pack.data
+_PACK_HEAD = rank_head("p p f", "read_data pack.data") + """\
 pair_style viscontact {pstyle}
 pair_coeff * * hertz/material 1e7 0.3 damping {law} tangential mindlin 0.5
 {setup}
@@ -226,15 +217,7 @@ def test_restart_continues_exactly(pack, newton, np_, mode):
 R, RHO, E, NU, G = 0.005, 2500.0, 1.0e7, 0.3, 50.0
 GAP, DT = 1.0e-3, 1.0e-6
 
-_BOUNCE = """\
-{plugin}
-units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-comm_modify vel yes
-region box block -0.02 0.02 -0.02 0.02 -0.02 0.05
-create_box 1 box
+_BOUNCE = sphere_head("f f f", "-0.02 0.02 -0.02 0.02 -0.02 0.05") + """\
 create_atoms 1 single 0 0 0
 create_atoms 1 single 0 0 {z0:.17g}
 set group all diameter {d:.17g}
@@ -530,15 +513,7 @@ def test_error_in_process_is_an_exception(tmp_path):
 
 
 # ---------------------------------------------------------------------------- mixing
-_MIX = """\
-{plugin}
-units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-comm_modify vel yes
-region box block -0.01 0.01 -0.01 0.01 -0.01 0.01
-create_box 2 box
+_MIX = sphere_head("f f f", "-0.01 0.01 -0.01 0.01 -0.01 0.01", 2) + """\
 create_atoms 1 single 0 0 0
 create_atoms 2 single {x2:.17g} 0 0
 set atom 1 diameter {d1:.17g} density {rho1:.17g} vx {v:.17g} vy {vt:.17g}
