@@ -175,6 +175,29 @@ def read_atoms(path: Path) -> dict[str, np.ndarray]:
     return {name: np.asarray(col) for name, col in frame.columns.items()}
 
 
+def drifting_pack(path: Path, shape: tuple[int, int, int], spacing: float, seed: int,
+                  v_sd: float, drift: float) -> np.ndarray:
+    """Write ``path``: a data file of a pack of spheres on a jittered grid (``shape`` sites,
+    ``spacing`` apart, 0.5 mm above z = 0) of two types and sizes (2.06 and 1.96 mm: they
+    overlap their neighbours from the start, density 2500), random velocities (normal, sd
+    ``v_sd``) plus ``drift`` along x (the pack drifts, so atoms change rank) and random spins
+    (sd 100 rad/s), in a box 3 times the pack's height; returns the positions."""
+    nx, ny, nz = shape
+    rng = np.random.default_rng(seed)
+    g = np.stack(np.meshgrid(np.arange(nx), np.arange(ny), np.arange(nz), indexing="ij"),
+                 -1).reshape(-1, 3)
+    xyz = (g + 0.5) * spacing + rng.uniform(-0.05, 0.05, g.shape) * spacing
+    xyz[:, 2] += 0.0005
+    types = rng.integers(1, 3, len(xyz))
+    diam = np.where(types == 1, 0.00206, 0.00196)
+    v = rng.normal(0.0, v_sd, xyz.shape)
+    v[:, 0] += drift
+    w = rng.normal(0.0, 100.0, xyz.shape)
+    box = (0.0, nx * spacing, 0.0, ny * spacing, 0.0, 3 * nz * spacing)
+    write_sphere_data(path, box, xyz, diam, 2500.0, types, v, w, ntypes=2)
+    return xyz
+
+
 def write_sphere_data(path: Path, box: tuple[float, float, float, float, float, float],
                       xyz: np.ndarray, diameter: np.ndarray, density: float | np.ndarray,
                       types: np.ndarray | None = None, v: np.ndarray | None = None,
