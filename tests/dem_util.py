@@ -25,6 +25,15 @@ import pytest
 from viscontact.dem import plugin as _plugin
 
 
+def _compiler_reason() -> str:
+    """Why no C++ compiler can build the plugin ("" when one can)."""
+    try:
+        _plugin._compiler()
+    except _plugin.PluginError as exc:
+        return str(exc) or "no C++ compiler"
+    return ""
+
+
 def _find() -> tuple[str | None, str | None, str]:
     """(lmp, mpirun, reason-if-missing)."""
     try:
@@ -42,10 +51,9 @@ def _find() -> tuple[str | None, str | None, str]:
         mpirun = str(_plugin.mpirun_executable())
     except _plugin.PluginError:
         mpirun = None
-    try:
-        _plugin._compiler()
-    except _plugin.PluginError as exc:
-        return None, None, str(exc)
+    reason = _compiler_reason()
+    if reason:
+        return None, None, reason
     return lmp, mpirun, ""
 
 
@@ -53,6 +61,11 @@ LMP, MPIRUN, LMP_REASON = _find()
 #: environment of a negative control: every pair contact forgets its history at each
 #: neighbour-list build (read by the plugin's history fix; not part of the input syntax)
 DROP_HISTORY = {"VISCONTACT_TEST_DROP_HISTORY": "1"}
+
+
+CXX_REASON = _compiler_reason()
+#: mark a module or test that needs a C++ compiler only (the ctypes kernel library, no LAMMPS)
+needs_compiler = pytest.mark.skipif(bool(CXX_REASON), reason=CXX_REASON or "no compiler")
 #: mark a module or test that needs LAMMPS and a compiler
 needs_lammps = pytest.mark.skipif(LMP is None, reason=LMP_REASON or "LAMMPS missing")
 #: mark a test that also needs mpirun (two ranks)
@@ -74,13 +87,35 @@ def plugin_line() -> str:
     return f"plugin load {plugin_path()}"
 
 
-def sphere_head(boundary: str, box: str, ntypes: int = 1, units: str = "si") -> str:
+def sphere_head(boundary: str, box: str, ntypes: int = 1, units: str = "si",
+                plugin: bool = True) -> str:
     """The first lines of a test input for spheres: ``{plugin}`` (a placeholder for
-    :func:`plugin_line`), units, ``atom_style sphere``, ``atom_modify map array``, the boundary,
+    :func:`plugin_line`; left out with ``plugin=False``, for an in-process LAMMPS that has
+    loaded it), units, ``atom_style sphere``, ``atom_modify map array``, the boundary,
     ``comm_modify vel yes`` and a block box ``box`` ("xlo xhi ylo yhi zlo zhi") of ntypes."""
-    return (f"{{plugin}}\nunits {units}\natom_style sphere\natom_modify map array\n"
-            f"boundary {boundary}\ncomm_modify vel yes\nregion box block {box}\n"
-            f"create_box {ntypes} box\n")
+    return (("{plugin}\n" if plugin else "") + f"units {units}\natom_style sphere\n"
+            f"atom_modify map array\nboundary {boundary}\ncomm_modify vel yes\n"
+            f"region box block {box}\ncreate_box {ntypes} box\n")
+
+
+def rank_head(boundary: str, start: str = "{start}", newton: bool = True) -> str:
+    """The first lines of an input run on 1 and on 2 ranks (and across restarts): ``{plugin}``,
+    SI units, ``atom_style sphere``, ``atom_modify map array``, the boundary, ``newton {newton}``
+    (a placeholder; the line is left out with ``newton=False``), ``comm_modify vel yes``,
+    ``processors * 1 1`` (ranks split along x only) and ``start`` (``read_data``,
+    ``read_restart``, or the ``{start}`` placeholder)."""
+    return ("{plugin}\nunits si\natom_style sphere\natom_modify map array\n"
+            f"boundary {boundary}\n" + ("newton {newton}\n" if newton else "")
+            + f"comm_modify vel yes\nprocessors * 1 1\n{start}\n")
+
+
+@pytest.fixture(scope="module", name="lmp")
+def inprocess_lammps():
+    """The fixture ``lmp``: one in-process LAMMPS with the plugin loaded, shared by a test
+    module (``from dem_util import inprocess_lammps`` makes it the module's)."""
+    inst = _plugin.new_lammps()
+    yield inst
+    inst.close()
 
 
 def run_lmp(script: str, workdir: Path, *, np: int = 1, variables: dict | None = None,
@@ -138,6 +173,29 @@ def read_atoms(path: Path) -> dict[str, np.ndarray]:
 
     frame = dem.read_dump(path)[-1]
     return {name: np.asarray(col) for name, col in frame.columns.items()}
+
+
+def drifting_pack(path: Path, shape: tuple[int, int, int], spacing: float, seed: int,
+                  v_sd: float, drift: float) -> np.ndarray:
+    """Write ``path``: a data file of a pack of spheres on a jittered grid (``shape`` sites,
+    ``spacing`` apart, 0.5 mm above z = 0) of two types and sizes (2.06 and 1.96 mm: they
+    overlap their neighbours from the start, density 2500), random velocities (normal, sd
+    ``v_sd``) plus ``drift`` along x (the pack drifts, so atoms change rank) and random spins
+    (sd 100 rad/s), in a box 3 times the pack's height; returns the positions."""
+    nx, ny, nz = shape
+    rng = np.random.default_rng(seed)
+    g = np.stack(np.meshgrid(np.arange(nx), np.arange(ny), np.arange(nz), indexing="ij"),
+                 -1).reshape(-1, 3)
+    xyz = (g + 0.5) * spacing + rng.uniform(-0.05, 0.05, g.shape) * spacing
+    xyz[:, 2] += 0.0005
+    types = rng.integers(1, 3, len(xyz))
+    diam = np.where(types == 1, 0.00206, 0.00196)
+    v = rng.normal(0.0, v_sd, xyz.shape)
+    v[:, 0] += drift
+    w = rng.normal(0.0, 100.0, xyz.shape)
+    box = (0.0, nx * spacing, 0.0, ny * spacing, 0.0, 3 * nz * spacing)
+    write_sphere_data(path, box, xyz, diam, 2500.0, types, v, w, ntypes=2)
+    return xyz
 
 
 def write_sphere_data(path: Path, box: tuple[float, float, float, float, float, float],

@@ -19,7 +19,7 @@ import re
 import numpy as np
 import pytest
 
-from dem_util import needs_lammps
+from dem_util import inprocess_lammps, needs_lammps, sphere_head  # noqa: F401 (fixture lmp)
 
 pytestmark = needs_lammps
 
@@ -29,13 +29,7 @@ ESTAR = E / (2 * (1 - NU**2))
 V, DT, DELTA0 = 2e-4, 1e-6, 2e-6
 LAWS = {"LH": 0.0, "Ts": 0.25, "KK": 0.5, "Li": 1.0, "Hunt": 1.5, "Jian": 0.5, "power": 0.75}
 
-_SCRIPT = """units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-comm_modify vel yes
-region b block -0.02 0.03 -0.02 0.02 -0.02 0.02
-create_box 1 b
+_SCRIPT = sphere_head("f f f", "-0.02 0.03 -0.02 0.02 -0.02 0.02", plugin=False) + """\
 create_atoms 1 single 0 0 0
 create_atoms 1 single {x2!r} 0 0
 set type 1 diameter {d} density 2500
@@ -78,15 +72,6 @@ def _pull(lmp, tmp_path, normal: str, law: str) -> tuple[np.ndarray, np.ndarray]
             if re.match(r"^\s*\d+\s+\S+\s+\S+\s*$", ln)]
     data = np.array([[float(c) for c in r[1:]] for r in rows])
     return data[:, 0], data[:, 1]
-
-
-@pytest.fixture(scope="module")
-def lmp():
-    from viscontact.dem import plugin
-
-    inst = plugin.new_lammps()
-    yield inst
-    inst.close()
 
 
 @pytest.mark.parametrize("law", list(LAWS))

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from dem_util import needs_lammps
+from dem_util import inprocess_lammps, needs_lammps, sphere_head  # noqa: F401 (fixture lmp)
 
 pytestmark = needs_lammps
 
@@ -28,13 +28,7 @@ DAMPING = {
 TANGENTIAL = ["linear_history 5e4 0.5 0.4", "mindlin_rescale NULL 0.5 0.4", "mindlin NULL 0.5 0.4",
               "mindlin/force NULL 0.5 0.4", "linear_nohistory 0.5 0.4"]
 
-_SCRIPT = """units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-comm_modify vel yes
-region box block -0.1 0.1 -0.1 0.1 -0.1 0.1
-create_box 1 box
+_SCRIPT = sphere_head("f f f", "-0.1 0.1 -0.1 0.1 -0.1 0.1", plugin=False) + """\
 create_atoms 1 single 0 0 0
 create_atoms 1 single 0.0201 0.004 0.001
 set atom * diameter 0.02 density 2500
@@ -53,15 +47,6 @@ variable tot equal c_ke+c_rot+c_e[1]+c_e[8]
 thermo_style custom step v_tot c_e[1] c_pa[1] c_e[8] c_pa[2]
 run {steps}
 """
-
-
-@pytest.fixture(scope="module")
-def lmp():
-    from viscontact.dem import plugin
-
-    inst = plugin.new_lammps()
-    yield inst
-    inst.close()
 
 
 def _balance(lmp, damping: str, tangential: str, dt: float) -> tuple[float, np.ndarray]:

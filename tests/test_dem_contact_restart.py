@@ -19,7 +19,8 @@ import numpy as np
 import pytest
 
 from dem_util import (
-    assert_ok, needs_lammps, needs_mpirun, plugin_line, read_atoms, run_lmp, write_sphere_data,
+    assert_ok, drifting_pack, needs_lammps, needs_mpirun, plugin_line, rank_head, read_atoms,
+    run_lmp,
 )
 
 pytestmark = needs_lammps
@@ -35,17 +36,7 @@ COLUMNS = ("xu", "yu", "zu", "vx", "vy", "vz", "omegax", "omegay", "omegaz", "fx
 TOL_RANKS = 1e-10
 TOL_RESTART = 1e-10
 
-_HEAD = """\
-{plugin}
-units si
-atom_style sphere
-atom_modify map array
-boundary p p f
-newton {newton}
-comm_modify vel yes
-processors * 1 1
-read_data pack.data
-"""
+_HEAD = rank_head("p p f", "read_data pack.data")
 _MODEL = """\
 pair_style viscontact
 pair_coeff * * jkr 1e7 0.3 0.05 damping KK alpha 0.3 vref 1.0 tangential mindlin_rescale NULL 0.5 0.4 rolling sds 200 0.01 0.1 twisting sds 0.001 1e-9 0.05
@@ -72,18 +63,7 @@ def pack(tmp_path_factory):
     """Directory with pack.data (overlapping spheres of two sizes, random velocities and spins,
     the whole pack drifting along x so that atoms change rank); returns (dir, positions)."""
     d = tmp_path_factory.mktemp("restart_pack")
-    rng = np.random.default_rng(11)
-    g = np.stack(np.meshgrid(np.arange(NX), np.arange(NY), np.arange(NZ), indexing="ij"),
-                 -1).reshape(-1, 3)
-    xyz = (g + 0.5) * SPACING + rng.uniform(-0.05, 0.05, g.shape) * SPACING
-    xyz[:, 2] += 0.0005
-    types = rng.integers(1, 3, len(xyz))
-    diam = np.where(types == 1, 0.00206, 0.00196)
-    v = rng.normal(0.0, 0.3, xyz.shape)
-    v[:, 0] += 1.0
-    w = rng.normal(0.0, 100.0, xyz.shape)
-    write_sphere_data(d / "pack.data", BOX, xyz, diam, 2500.0, types, v, w, ntypes=2)
-    return d, xyz
+    return d, drifting_pack(d / "pack.data", (NX, NY, NZ), SPACING, 11, v_sd=0.3, drift=1.0)
 
 
 def _vector(log: str, step: int | None = None) -> np.ndarray:

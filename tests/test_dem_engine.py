@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 
 from dem_util import (
-    DROP_HISTORY, assert_ok, error_lines, needs_lammps, needs_mpirun, plugin_line, read_atoms, run_inprocess,
-    run_lmp, write_sphere_data,
+    DROP_HISTORY, assert_ok, drifting_pack, error_lines, needs_lammps, needs_mpirun, plugin_line,
+    rank_head, read_atoms, run_inprocess, run_lmp, sphere_head, write_sphere_data,
 )
 from viscontact.physics.pair import damping_coefficient, time_scale
 
@@ -37,16 +37,7 @@ COLUMNS = ("xu", "yu", "zu", "vx", "vy", "vz", "omegax", "omegay", "omegaz")
 TOL = 1e-10
 
 #: the settling pack with the plugin's pair style ({pstyle}: its options), then {setup}
-_PACK_HEAD = """\
-{plugin}
-units si
-atom_style sphere
-atom_modify map array
-boundary p p f
-newton {newton}
-comm_modify vel yes
-processors * 1 1
-read_data pack.data
+_PACK_HEAD = rank_head("p p f", "read_data pack.data") + """\
 pair_style viscontact {pstyle}
 pair_coeff * * hertz/material 1e7 0.3 damping {law} tangential mindlin 0.5
 {setup}
@@ -72,18 +63,7 @@ LAWS = {"KK": "KK alpha 0.3 vref 1.0", "Jian": "Jian alpha 0.3 vref 1.0 beta 0.5
 def pack(tmp_path_factory):
     """Directory with pack.data; returns (dir, initial positions)."""
     d = tmp_path_factory.mktemp("pack")
-    rng = np.random.default_rng(7)
-    g = np.stack(np.meshgrid(np.arange(NX), np.arange(NY), np.arange(NZ), indexing="ij"),
-                 -1).reshape(-1, 3)
-    xyz = (g + 0.5) * SPACING + rng.uniform(-0.05, 0.05, g.shape) * SPACING
-    xyz[:, 2] += 0.0005
-    types = rng.integers(1, 3, len(xyz))
-    diam = np.where(types == 1, 0.00206, 0.00196)  # overlapping neighbours from the start
-    v = rng.normal(0.0, 0.5, xyz.shape)
-    v[:, 0] += DRIFT  # the whole pack drifts along x (frictionless floor): atoms change rank
-    w = rng.normal(0.0, 100.0, xyz.shape)
-    write_sphere_data(d / "pack.data", BOX, xyz, diam, 2500.0, types, v, w, ntypes=2)
-    return d, xyz
+    return d, drifting_pack(d / "pack.data", (NX, NY, NZ), SPACING, 7, v_sd=0.5, drift=DRIFT)
 
 
 def _run_pack(d, out, *, np_=1, newton="off", law="KK", pstyle="", steps=STEPS, env=None):
@@ -226,15 +206,7 @@ def test_restart_continues_exactly(pack, newton, np_, mode):
 R, RHO, E, NU, G = 0.005, 2500.0, 1.0e7, 0.3, 50.0
 GAP, DT = 1.0e-3, 1.0e-6
 
-_BOUNCE = """\
-{plugin}
-units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-comm_modify vel yes
-region box block -0.02 0.02 -0.02 0.02 -0.02 0.05
-create_box 1 box
+_BOUNCE = sphere_head("f f f", "-0.02 0.02 -0.02 0.02 -0.02 0.05") + """\
 create_atoms 1 single 0 0 0
 create_atoms 1 single 0 0 {z0:.17g}
 set group all diameter {d:.17g}
@@ -530,15 +502,7 @@ def test_error_in_process_is_an_exception(tmp_path):
 
 
 # ---------------------------------------------------------------------------- mixing
-_MIX = """\
-{plugin}
-units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-comm_modify vel yes
-region box block -0.01 0.01 -0.01 0.01 -0.01 0.01
-create_box 2 box
+_MIX = sphere_head("f f f", "-0.01 0.01 -0.01 0.01 -0.01 0.01", 2) + """\
 create_atoms 1 single 0 0 0
 create_atoms 2 single {x2:.17g} 0 0
 set atom 1 diameter {d1:.17g} density {rho1:.17g} vx {v:.17g} vy {vt:.17g}
@@ -592,10 +556,14 @@ def test_mixing_of_two_types(tmp_path):
     expect = fn * n + ft
     np.testing.assert_allclose(f[0], expect, rtol=0, atol=1e-12 * np.abs(expect).max())
     np.testing.assert_allclose(f[1], -expect, rtol=0, atol=1e-12 * np.abs(expect).max())
-    # compute pair/local (pair single): the elastic F_ne (as native's single), F_t, |F_t|
+    # compute pair/local (pair single, at the end of the step: full-step velocities): the
+    # whole normal force F_n (as native's single), F_t, |F_t|
     local = (tmp_path / "local.dump").read_text().split("ITEM: ENTRIES")[-1].split("\n")[1]
     fn_local, *rest = map(float, local.split())
-    assert fn_local == pytest.approx(k * delta**1.5, rel=1e-12)
+    vfull = np.stack([at["vx"], at["vy"], at["vz"]], 1)
+    ddelta_full = -(vfull[0] - vfull[1]) @ n
+    assert fn_local == pytest.approx(k * delta**1.5 + c0 * math.sqrt(delta) * ddelta_full,
+                                     rel=1e-12)
     np.testing.assert_allclose(rest[:3], ft, rtol=0, atol=1e-12 * np.abs(expect).max())
     assert rest[3] == pytest.approx(np.linalg.norm(rest[:3]), rel=1e-12)
     # unequal laws cannot be mixed

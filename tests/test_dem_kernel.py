@@ -25,13 +25,9 @@ from viscontact import kernels
 from viscontact.dem import plugin
 from viscontact.physics.pair import damping_coefficient, time_scale
 
-try:
-    plugin._compiler()
-    NO_CXX = ""
-except plugin.PluginError as exc:
-    NO_CXX = str(exc)
+from dem_util import needs_compiler
 
-pytestmark = pytest.mark.skipif(bool(NO_CXX), reason=NO_CXX or "no compiler")
+pytestmark = needs_compiler
 
 EPS = np.finfo(float).eps
 LAWS = ("LH", "Ts", "KK", "Li", "Hunt", "Jian", "power")  # enum order of viscontact::Law

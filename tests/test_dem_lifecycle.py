@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from dem_util import (
-    DROP_HISTORY, assert_ok, error_lines, needs_lammps, needs_mpirun, plugin_line, read_atoms,
-    run_lmp, write_sphere_data,
+    DROP_HISTORY, assert_ok, error_lines, needs_lammps, needs_mpirun, plugin_line, rank_head,
+    read_atoms, run_lmp, write_sphere_data,
 )
 
 pytestmark = needs_lammps
@@ -29,16 +29,7 @@ COLUMNS = ("x", "y", "z", "vx", "vy", "vz", "omegax", "omegay", "omegaz")
 TOL = 1e-12
 N = 300
 
-_HEAD = """\
-{plugin}
-units si
-atom_style sphere
-atom_modify map array
-boundary p p f
-newton {newton}
-processors * 1 1
-{start}
-comm_modify vel yes
+_HEAD = rank_head("p p f") + """\
 {lines}
 fix g all gravity 9.81 vector 0 0 -1
 fix 1 all nve/sphere

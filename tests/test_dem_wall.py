@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from dem_util import (
-    assert_ok, error_lines, needs_lammps, needs_mpirun, plugin_line, read_atoms, run_lmp,
-    write_sphere_data,
+    assert_ok, error_lines, needs_lammps, needs_mpirun, plugin_line, rank_head, read_atoms,
+    run_lmp, write_sphere_data,
 )
 
 pytestmark = needs_lammps
@@ -38,15 +38,7 @@ COLUMNS = ("x", "y", "z", "vx", "vy", "vz", "omegax", "omegay", "omegaz")
 #: force depends on that atom alone), so only rounding could differ; asserted 1e-10
 TOL = 1e-10
 
-_LAYER = """\
-{plugin}
-units si
-atom_style sphere
-atom_modify map array
-boundary f p f
-comm_modify vel yes
-processors * 1 1
-{start}
+_LAYER = rank_head("f p f", newton=False) + """\
 {pair_style}
 {pair_coeff}
 {wall}

@@ -32,7 +32,7 @@ import numpy as np
 from ..physics import domain
 from ..calibration.inverse import alpha_from_e, restitution
 from ..collision.single import check_end
-from ..physics.laws import lookup
+from ..physics.laws import exponent, lookup
 from ..physics.laws import Hunt, KK, LH, Li, Power, Ts
 
 __all__ = [
@@ -334,14 +334,7 @@ def first_order_formula(model: str, p: float | None = None) -> Formula:
     law = lookup(model)
     if law.needs_beta:
         raise ValueError("the first-order estimate is for laws with g = 1; Jian has a relaxation factor")
-    if law.p is None:
-        if p is None:
-            raise ValueError(f"model power needs the exponent p (in {domain.range_text('p')})")
-        pp = domain.check("p", p)
-    else:
-        if p is not None:
-            raise ValueError(f"model {law.name} has a fixed exponent p = {law.p}; p is only for 'power'")
-        pp = float(law.p)
+    pp = exponent(law, p)
     suffix = law.name.lower() if law.p is not None else f"power-p{pp:g}"
     return Formula(
         name=f"first-order-{suffix}", title=f"first-order energy ({law.name})", model=law.name,

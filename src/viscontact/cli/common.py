@@ -69,6 +69,13 @@ NOTES: list[str] = []
 (an error is one line, with no notes before it)."""
 
 
+def report_written(out: object, seconds: float, digits: int = 1) -> None:
+    """Tell the user on stderr where a report went, how long it took (``digits`` decimals of
+    a second) and which page to open."""
+    print(f"report written to {out}/ ({seconds:.{digits}f} s); open {out}/index.html",
+          file=sys.stderr)
+
+
 def note(message: str) -> None:
     NOTES.append(message)
 

@@ -7,7 +7,7 @@ import argparse
 import sys
 
 from ..physics.domain import NP_MAX
-from .common import add_force_option
+from .common import add_force_option, report_written
 
 
 def _dem_study(args: argparse.Namespace) -> int:
@@ -24,8 +24,7 @@ def _dem_study(args: argparse.Namespace) -> int:
     except LammpsError as exc:  # no plugin, no LAMMPS, or LAMMPS stopped: one line
         raise UserError(str(exc).splitlines()[0] if str(exc) else "LAMMPS failed") from None
     if not args.quiet:
-        print(f"report written to {out}/ ({time.perf_counter() - t0:.0f} s); "
-              f"open {out}/index.html", file=sys.stderr)
+        report_written(out, time.perf_counter() - t0, digits=0)
     return 0
 
 

@@ -21,7 +21,8 @@ from ..paper.experiment import PhysicalCalibration, ball, calibrate_physical, lo
 from ..physics.laws import STUDY_MODELS, lookup
 from ..collision.sweep import SWEEP_FIELDS, velocity_sweep
 from .._support import outputs
-from .common import add_force_option, add_model_options, finite_json, note, print_json
+from .common import (add_force_option, add_model_options, finite_json, note, print_json,
+                     report_written)
 from ..physics.domain import range_text as _R
 from ..physics.laws import Jian, Power
 
@@ -275,8 +276,7 @@ def _reproduce(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     out = reproduce(args.out, force=args.force, progress=None if args.quiet else sys.stderr)
     if not args.quiet:
-        print(f"report written to {out}/ ({time.perf_counter() - t0:.1f} s); "
-              f"open {out}/index.html", file=sys.stderr)
+        report_written(out, time.perf_counter() - t0)
     return 0
 
 

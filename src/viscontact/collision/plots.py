@@ -22,6 +22,12 @@ LAW_COLORS: dict[str, str] = dict(zip(MODELS, (
 #: One marker per law, for curves that lie close together (sweeps, e against alpha).
 LAW_MARKERS: dict[str, str] = dict(zip(MODELS, ("o", "s", "^", "v", "D", "P", "x")))
 
+#: The three panels of a velocity sweep, e, t_c [ms], F_max [N] against v: (attribute of the
+#: sweep, scale to the axis unit, axis label).
+SWEEP_PANELS: tuple[tuple[str, float, str], ...] = (
+    ("e", 1.0, "coefficient of restitution e"), ("tc", 1e3, "contact time t_c [ms]"),
+    ("fmax", 1.0, "peak force F_max [N]"))
+
 
 def law_label(r: CollisionResult) -> str:
     label = r.model
@@ -81,9 +87,7 @@ def plot_sweeps(sweeps: Sequence, path: str | Path, title: str | None = None,
     """
     fig = Figure(figsize=(14, 4.8))
     axes = fig.subplots(1, 3)
-    specs = (("e", 1.0, "coefficient of restitution e"), ("tc", 1e3, "contact time t_c [ms]"),
-             ("fmax", 1.0, "peak force F_max [N]"))
-    for ax, (attr, scale, label) in zip(axes, specs):
+    for ax, (attr, scale, label) in zip(axes, SWEEP_PANELS):
         for s in sweeps:
             lab = s.model + (f", p={s.p:g}" if lookup(s.model).p is None else "")
             ax.plot(s.v * 100, getattr(s, attr) * scale, "-o", ms=3, color=LAW_COLORS.get(s.model),

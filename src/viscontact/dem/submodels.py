@@ -34,6 +34,18 @@ def _nonneg(label: str, value: Any) -> float:
     return v
 
 
+def _set_sds(obj: Any, what: str, fields: tuple[str, str, str], names: tuple[str, str, str]) -> None:
+    """Check and store, on the frozen dataclass ``obj``, the three numbers of ``WHAT sds K
+    GAMMA MU`` held in ``fields``: the spring K > 0 (the slip update divides by it), the
+    dashpot and the limit >= 0; the messages name them ``WHAT sds NAME``."""
+    k = _nonneg(f"{what} sds {names[0]}", getattr(obj, fields[0]))
+    if k == 0:
+        raise ValueError(f"{what} sds {names[0]} must be > 0 (the slip update divides by it)")
+    object.__setattr__(obj, fields[0], k)
+    for field, name in zip(fields[1:], names[1:]):
+        object.__setattr__(obj, field, _nonneg(f"{what} sds {name}", getattr(obj, field)))
+
+
 @dataclass(frozen=True)
 class Normal:
     """The normal model: ``hertz`` (Hertz, no cohesion), ``dmt`` or ``jkr`` with the surface
@@ -179,12 +191,7 @@ class Rolling:
     mur: float
 
     def __post_init__(self) -> None:
-        kr = _nonneg("rolling sds KR", self.kr)
-        if kr == 0:
-            raise ValueError("rolling sds KR must be > 0 (the slip update divides by it)")
-        object.__setattr__(self, "kr", kr)
-        object.__setattr__(self, "gammar", _nonneg("rolling sds GAMMAR", self.gammar))
-        object.__setattr__(self, "mur", _nonneg("rolling sds MUR", self.mur))
+        _set_sds(self, "rolling", ("kr", "gammar", "mur"), ("KR", "GAMMAR", "MUR"))
 
     @classmethod
     def from_any(cls, spec: Any) -> "Rolling | None":
@@ -222,12 +229,7 @@ class Twisting:
             return
         if any(x is None for x in nums):
             raise ValueError("twisting sds needs KT GAMMAT MUT")
-        kt = _nonneg("twisting sds KT", self.kt)
-        if kt == 0:
-            raise ValueError("twisting sds KT must be > 0 (the slip update divides by it)")
-        object.__setattr__(self, "kt", kt)
-        object.__setattr__(self, "gammat", _nonneg("twisting sds GAMMAT", self.gammat))
-        object.__setattr__(self, "mut", _nonneg("twisting sds MUT", self.mut))
+        _set_sds(self, "twisting", ("kt", "gammat", "mut"), ("KT", "GAMMAT", "MUT"))
 
     @classmethod
     def from_any(cls, spec: Any) -> "Twisting | None":

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from matplotlib.figure import Figure
 
-from ..collision.plots import LAW_COLORS, LAW_MARKERS
+from ..collision.plots import LAW_COLORS, LAW_MARKERS, SWEEP_PANELS
 from ..paper.figures import MEASURED
 from .fitting import GlobalFit, LawFit
 from .recording import Measured
@@ -68,9 +68,7 @@ def plot_global(fits: Sequence[GlobalFit], path: str | Path) -> Path:
     """e, t_c [ms], F_max [N] against v_i [cm/s]: measured (stars), each law's global fit."""
     fig = Figure(figsize=(15, 4.8))
     axes = fig.subplots(1, 3)
-    specs = (("e", 1.0, "coefficient of restitution e"), ("tc", 1e3, "contact time t_c [ms]"),
-             ("fmax", 1.0, "peak force F_max [N]"))
-    for ax, (key, scale, label) in zip(axes, specs):
+    for ax, (key, scale, label) in zip(axes, SWEEP_PANELS):
         for g in fits:
             color = LAW_COLORS.get(g.law)
             if g.sweep is not None:

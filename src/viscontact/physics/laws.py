@@ -196,6 +196,19 @@ def lookup(model: str) -> type[ContactLaw]:
     raise ValueError(f"unknown model {model!r}; valid models are: {', '.join(MODELS)}")
 
 
+def exponent(law: type[ContactLaw], p: float | None = None) -> float:
+    """The damping exponent p of ``law`` in F_d = c delta^p d(delta)/dt: its fixed value, or
+    the given ``p`` (inside its domain) for the power law; ValueError when p is missing for
+    the power law or given for a law whose exponent is fixed."""
+    if law.p is None:
+        if p is None:
+            raise ValueError(f"model power needs the exponent p (in {domain.range_text('p')})")
+        return domain.check("p", p)
+    if p is not None:
+        raise ValueError(f"model {law.name} has a fixed exponent p = {law.p}; p is only for 'power'")
+    return float(law.p)
+
+
 def resolve(model: str, *, beta: float | None = None, p: float | None = None) -> LawParams:
     """Validate a model name and its extra parameters (beta, p inside their domain,
     :mod:`viscontact.physics.domain`); ValueError says what is wrong."""
@@ -209,12 +222,5 @@ def resolve(model: str, *, beta: float | None = None, p: float | None = None) ->
         if beta is not None:
             raise ValueError(f"model {law.name} takes no beta; only Jian has a relaxation time")
         beta_v = 0.0
-    if law.p is None:
-        if p is None:
-            raise ValueError(f"model power needs the exponent p (in {domain.range_text('p')})")
-        p_v = domain.check("p", p)
-    else:
-        if p is not None:
-            raise ValueError(f"model {law.name} has a fixed exponent p = {law.p}; p is only for 'power'")
-        p_v = float(law.p)
+    p_v = exponent(law, p)
     return LawParams(law=law, p=p_v, beta=beta_v, m=substitution_order(p_v))

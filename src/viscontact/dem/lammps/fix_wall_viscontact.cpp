@@ -430,8 +430,19 @@ void FixWallViscontact::find_touches(int i, double wlo, double whi, const double
       c.n[1] = rc.dely / rc.r;
       c.n[2] = rc.delz / rc.r;
       c.rwall = rc.radius;
-      if (moving) region->velocity_contact(c.vwall, atom->x[i], ic);
-      else c.vwall[0] = c.vwall[1] = c.vwall[2] = 0.0;
+      if (moving && region->varshape && rc.varflag && !region->rotateflag) {
+        // a face whose size changes in time on a region that does not rotate: the region's
+        // translation plus the shape's rate of change at the contact point xc.
+        // Region::velocity_contact() sets xc only for a rotating region but hands it to the
+        // shape term in any case (native fix wall/gran/region then gets no shape velocity).
+        double xc[3] = {x[0] - rc.delx, x[1] - rc.dely, x[2] - rc.delz};
+        for (int d = 0; d < 3; d++) c.vwall[d] = region->moveflag ? region->v[d] : 0.0;
+        region->velocity_contact_shape(c.vwall, xc);
+      } else if (moving) {
+        region->velocity_contact(c.vwall, atom->x[i], ic);
+      } else {
+        c.vwall[0] = c.vwall[1] = c.vwall[2] = 0.0;
+      }
       touches.push_back(c);
     }
   }

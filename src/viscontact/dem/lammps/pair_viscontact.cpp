@@ -602,7 +602,7 @@ double PairViscontact::single(int i, int j, int itype, int jtype, double rsq, do
   const double stored = es >= 0 ? hist[es] : 0.0;
   m.evaluate(g, hist, false, res);
   if (factor_lj != 1.0) res.scale(factor_lj);    // the special_bonds factor, as compute()
-  fforce = res.fne / std::sqrt(rsq);
+  fforce = res.fn / std::sqrt(rsq);    // the whole normal force (elastic + damping), as native
   for (int k = 0; k < 3; k++) {
     svector[k] = res.ft[k];
     svector[4 + k] = res.fr[k];

@@ -29,6 +29,7 @@
 #include "viscontact_contact.h"
 #include "viscontact_model.h"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -292,13 +293,9 @@ class LawKeywords {
       seen_rolling = true;
       if (i + 1 >= args.size() || args[i + 1] != "sds")
         return fail(err, "rolling must be followed by sds KR GAMMAR MUR");
-      if (i + 4 >= args.size()) return fail(err, "rolling sds needs KR GAMMAR MUR");
       rolling.kind = RollingKind::SDS;
-      err = parse_number("rolling sds KR", args[i + 2], POSITIVE_DOMAIN, rolling.k);
-      if (err.empty()) err = parse_number("rolling sds GAMMAR", args[i + 3], PHYSICAL_DOMAIN, rolling.gamma);
-      if (err.empty()) err = parse_number("rolling sds MUR", args[i + 4], MU_DOMAIN, rolling.mu);
-      i += 5;
-      return true;
+      return take_sds(args, i, "rolling", {"KR", "GAMMAR", "MUR"}, MU_DOMAIN, rolling.k,
+                      rolling.gamma, rolling.mu, err);
     }
     if (kw == "twisting") {
       if (seen_twisting) return fail(err, "twisting given twice");
@@ -310,13 +307,9 @@ class LawKeywords {
         return true;
       }
       if (model != "sds") return fail(err, "twisting must be followed by marshall or sds KT GAMMAT MUT");
-      if (i + 4 >= args.size()) return fail(err, "twisting sds needs KT GAMMAT MUT");
       twisting.kind = TwistingKind::SDS;
-      err = parse_number("twisting sds KT", args[i + 2], POSITIVE_DOMAIN, twisting.k);
-      if (err.empty()) err = parse_number("twisting sds GAMMAT", args[i + 3], PHYSICAL_DOMAIN, twisting.gamma);
-      if (err.empty()) err = parse_number("twisting sds MUT", args[i + 4], PHYSICAL_DOMAIN, twisting.mu);
-      i += 5;
-      return true;
+      return take_sds(args, i, "twisting", {"KT", "GAMMAT", "MUT"}, PHYSICAL_DOMAIN, twisting.k,
+                      twisting.gamma, twisting.mu, err);
     }
     if (kw == "heat") {
       if (seen_heat) return fail(err, "heat given twice");
@@ -393,6 +386,23 @@ class LawKeywords {
   static bool fail(std::string &err, const std::string &msg)
   {
     err = msg;
+    return true;
+  }
+
+  /// `WHAT sds K GAMMA MU` at args[i] (rolling or twisting, names: the three values' names in
+  /// the messages): K > 0, GAMMA >= 0, MU in mu_domain; advances i past it and returns true
+  /// (as take()), err set on a missing or bad value.
+  static bool take_sds(const std::vector<std::string> &args, size_t &i, const std::string &what,
+                       const std::array<const char *, 3> &names, const Domain &mu_domain,
+                       double &k, double &gamma, double &mu, std::string &err)
+  {
+    const std::string head = what + " sds ";
+    if (i + 4 >= args.size())
+      return fail(err, head + "needs " + names[0] + " " + names[1] + " " + names[2]);
+    err = parse_number(head + names[0], args[i + 2], POSITIVE_DOMAIN, k);
+    if (err.empty()) err = parse_number(head + names[1], args[i + 3], PHYSICAL_DOMAIN, gamma);
+    if (err.empty()) err = parse_number(head + names[2], args[i + 4], mu_domain, mu);
+    i += 5;
     return true;
   }
 };

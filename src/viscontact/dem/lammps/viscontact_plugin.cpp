@@ -55,6 +55,28 @@ static Compute *compute_viscontact_energy_creator(LAMMPS *lmp, int argc, char **
   return new ComputeViscontactEnergy(lmp, argc, argv);
 }
 
+/// One style the plugin adds: LAMMPS style kind, name, one-line info and its factory (pair
+/// styles take the v1 factory, fixes and computes v2).
+struct StyleEntry {
+  const char *style;
+  const char *name;
+  const char *info;
+  lammpsplugin_factory1 *v1;
+  lammpsplugin_factory2 *v2;
+};
+
+/// Every style of the plugin, registered in this order.
+static const StyleEntry STYLES[] = {
+    {"pair", "viscontact", "viscontact: granular contact model with the viscoelastic damping laws",
+     (lammpsplugin_factory1 *) &pair_viscontact_creator, nullptr},
+    {"fix", "VISCONTACT_HISTORY", "viscontact: per-contact history of pair viscontact (internal)",
+     nullptr, (lammpsplugin_factory2 *) &fix_viscontact_history_creator},
+    {"fix", "viscontact/wall", "viscontact: plane and cylinder walls with the viscontact laws",
+     nullptr, (lammpsplugin_factory2 *) &fix_wall_viscontact_creator},
+    {"compute", "viscontact/energy", "viscontact: dissipated and elastic contact energy by mechanism",
+     nullptr, (lammpsplugin_factory2 *) &compute_viscontact_energy_creator},
+};
+
 void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
 {
   lammpsplugin_t plugin;
@@ -64,28 +86,14 @@ void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.version = lammps->version;    // the running LAMMPS: the loader compares it
   plugin.author = "viscontact";
   plugin.handle = handle;
-
-  plugin.style = "pair";
-  plugin.name = "viscontact";
-  plugin.info = "viscontact: granular contact model with the viscoelastic damping laws";
-  plugin.creator.v1 = (lammpsplugin_factory1 *) &pair_viscontact_creator;
-  (*register_plugin)(&plugin, lmp);
-
-  plugin.style = "fix";
-  plugin.name = "VISCONTACT_HISTORY";
-  plugin.info = "viscontact: per-contact history of pair viscontact (internal)";
-  plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_viscontact_history_creator;
-  (*register_plugin)(&plugin, lmp);
-
-  plugin.style = "fix";
-  plugin.name = "viscontact/wall";
-  plugin.info = "viscontact: plane and cylinder walls with the viscontact laws";
-  plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_wall_viscontact_creator;
-  (*register_plugin)(&plugin, lmp);
-
-  plugin.style = "compute";
-  plugin.name = "viscontact/energy";
-  plugin.info = "viscontact: dissipated and elastic contact energy by mechanism";
-  plugin.creator.v2 = (lammpsplugin_factory2 *) &compute_viscontact_energy_creator;
-  (*register_plugin)(&plugin, lmp);
+  for (const StyleEntry &entry : STYLES) {
+    plugin.style = entry.style;
+    plugin.name = entry.name;
+    plugin.info = entry.info;
+    if (entry.v1)
+      plugin.creator.v1 = entry.v1;
+    else
+      plugin.creator.v2 = entry.v2;
+    (*register_plugin)(&plugin, lmp);
+  }
 }
