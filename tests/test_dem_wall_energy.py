@@ -3,12 +3,11 @@ elastic (``compute viscontact/energy``, the wall contacts counted fully on their
 dissipated stays constant as the spheres settle, the residual shrinking at least linearly as
 dt halves (a mechanism the wall failed to count would leave a residual that does not shrink).
 
-Measured (this file's cases, 0.3 s of settling): residual / dissipated = 3.4e-3 at
-dt = t_c/50 and 1.3e-3 at t_c/100 with normal damping alone; the first-order term is the
-normal damping work counted as F_d(v_(n+1/2)) . v_(n+1/2) dt, where velocity Verlet's work is
-(F_d,n + F_d,n+1)/2 . v_(n+1/2) dt.  The residual is taken at the end, with the spheres at
-rest or nearly so (in the middle of a contact velocity Verlet's energy oscillates by O(dt^2)
-of the contact's energy).
+Measured (this file's cases, 0.3 s of settling): residual / dissipated = 1.2e-3 (bowl) and
+3.0e-4 (jkr floor) at dt = t_c/50, 2.2e-4 and 7.0e-5 at t_c/100, 5.1e-5 and 1.3e-5 at t_c/200:
+second order (each force's work counted as velocity Verlet does it).  The residual is taken at
+the end, with the spheres at rest or nearly so (in the middle of a contact velocity Verlet's
+energy oscillates by O(dt^2) of the contact's energy).
 
 Cases: spheres thrown into a spherical bowl (a region; friction with tangential damping,
 rolling and twisting resistance, KK), and spheres dropped with spin onto a floor plane with
@@ -99,4 +98,4 @@ def test_wall_energy_balance(case):
         assert diss[-1] > 0.2 * total[0]    # a real loss (the energy is counted from z = 0)
         res.append(abs(total[-1] - total[0]) / diss[-1])
     assert res[0] < 1e-2, res
-    assert res[1] <= 0.55 * res[0], res
+    assert res[1] <= res[0] / 2, res
