@@ -8,9 +8,15 @@ contacts sliding, rolling and twisting; ours and native start from the same data
 2,000 steps.  Forces and torques of the dumped steps (history loaded) agree to 1e-10 of the
 largest force (torque), positions to 1e-8 of the diameter, on 1 and on 2 ranks.  The heat
 model's per-atom heat flow equals native ``heat area``.
+
+Every run of a rank count is one part of a single LAMMPS input (``clear`` between parts: each
+starts from nothing but the loaded plugin), so the module starts LAMMPS twice, not 40 times;
+each test reads its own parts' dumps.
 """
 
 from __future__ import annotations
+
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -83,8 +89,7 @@ CASES = {
         "0.5 0.4 twisting marshall"),
 }
 
-_SCRIPT = """{plugin}
-units si
+_SCRIPT = """units si
 atom_style sphere
 atom_modify map array
 boundary p p p
@@ -121,25 +126,62 @@ def _frames(path) -> np.ndarray:
                      for fr in dem.read_dump(path)])
 
 
-def _run(tmp_path, case: str, style: str, np_: int) -> np.ndarray:
-    ours, native = CASES[case]
-    out = f"{case}.{style}.{np_}"
-    script = _SCRIPT.format(plugin=plugin_line(), data="pack.data", style=style,
-                            coeff=ours if style == "viscontact" else native, dt=DT, every=EVERY,
-                            out=out, steps=STEPS)
-    proc = run_lmp(script, tmp_path, np=np_, name=f"in.{out}")
-    assert_ok(proc)
-    return _frames(tmp_path / out)
+def _part(name: str, body: str) -> str:
+    """One run of the batch: its input lines, then a line that says it finished."""
+    return f"{body}print \"part done: {name}\"\n"
+
+
+@pytest.fixture(scope="module")
+def batch(tmp_path_factory):
+    """``batch(np_)``: every run on ``np_`` ranks in one LAMMPS input (built once per rank
+    count): (directory with the dumps, finished process).  Parts: each case with native and
+    ours; on 1 rank also the heat runs."""
+    done = {}
+
+    def get(np_: int):
+        if np_ not in done:
+            work = tmp_path_factory.mktemp(f"native-np{np_}")
+            _pack(work / "pack.data")
+            parts = []
+            for case, (ours, native) in CASES.items():
+                for style, coeff in (("granular", native), ("viscontact", ours)):
+                    out = f"{case}.{style}"
+                    parts.append(_part(out, _SCRIPT.format(
+                        data="pack.data", style=style, coeff=coeff, dt=DT, every=EVERY, out=out,
+                        steps=STEPS)))
+            if np_ == 1:
+                for case in HEAT_CASES:
+                    for style, coeff in zip(("viscontact", "granular"), CASES[case]):
+                        out = f"heat.{case}.{style}"
+                        parts.append(_part(out, _HEAT.format(data="pack.data", style=style,
+                                                             coeff=coeff, dt=DT, out=out)))
+            script = plugin_line() + "\n" + "clear\n".join(parts)
+            done[np_] = work, run_lmp(script, work, np=np_, name="in.all", timeout=900)
+        return done[np_]
+
+    return get
+
+
+def _dump(batch_run, out: str) -> Path:
+    """The dump of part ``out``, after checking that the part ran to its end."""
+    work, proc = batch_run
+    if f"part done: {out}" not in proc.stdout:
+        assert_ok(proc)  # LAMMPS's own error text
+        raise AssertionError(f"part {out} did not finish:\n{proc.stdout[-3000:]}")
+    return work / out
+
+
+def _run(batch, case: str, style: str, np_: int) -> np.ndarray:
+    return _frames(_dump(batch(np_), f"{case}.{style}"))
 
 
 @pytest.mark.parametrize("np_", [pytest.param(1, id="np1"), pytest.param(2, id="np2", marks=(
     pytest.mark.skipif(MPIRUN is None, reason="no mpirun")))])
 @pytest.mark.parametrize("case", list(CASES))
-def test_sub_models_as_native(tmp_path, case, np_):
+def test_sub_models_as_native(batch, case, np_):
     """Forces, torques and positions of a sheared, spinning pack equal native's (see module)."""
-    _pack(tmp_path / "pack.data")
-    nat = _run(tmp_path, case, "granular", np_)
-    ours = _run(tmp_path, case, "viscontact", np_)
+    nat = _run(batch, case, "granular", np_)
+    ours = _run(batch, case, "viscontact", np_)
     assert ours.shape == nat.shape and len(nat) == STEPS // EVERY + 1
     fpeak = np.abs(nat[:, :, 3:6]).max()
     tpeak = np.abs(nat[:, :, 6:9]).max()
@@ -154,8 +196,7 @@ def test_sub_models_as_native(tmp_path, case, np_):
     assert dt <= 1e-10, dt
 
 
-_HEAT = """{plugin}
-units si
+_HEAT = """units si
 atom_style sphere
 atom_modify map array
 boundary p p p
@@ -177,22 +218,20 @@ run 200
 """
 
 
-@pytest.mark.parametrize("case", ["LH_linear_history_rolling_twist_marshall",
-                                  "jkr_LH_linear_history_rolling_twist"])
-def test_heat_area_as_native(tmp_path, case):
+HEAT_CASES = ("LH_linear_history_rolling_twist_marshall", "jkr_LH_linear_history_rolling_twist")
+
+
+@pytest.mark.parametrize("case", HEAT_CASES)
+def test_heat_area_as_native(batch, case):
     """heat area K with fix heat/flow: per-atom heat flow and temperature of every dumped step
     equal native's (Q = K pi a^2 (T_j - T_i), a the normal model's contact radius)."""
     from viscontact import dem
 
-    _pack(tmp_path / "pack.data")
     got = {}
-    for style, coeff in zip(("viscontact", "granular"), CASES[case]):
-        out = f"heat.{style}"
-        proc = run_lmp(_HEAT.format(plugin=plugin_line(), data="pack.data", style=style,
-                                    coeff=coeff, dt=DT, out=out), tmp_path, name=f"in.{out}")
-        assert_ok(proc)
+    for style in ("viscontact", "granular"):
+        path = _dump(batch(1), f"heat.{case}.{style}")
         got[style] = np.array([np.stack([np.asarray(fr.columns[c]) for c in ("c_hf[1]", "c_hf[2]")], 1)
-                               for fr in dem.read_dump(tmp_path / out)])
+                               for fr in dem.read_dump(path)])
     ours, nat = got["viscontact"], got["granular"]
     qpeak = np.abs(nat[:, :, 1]).max()
     assert qpeak > 0 and np.abs(nat[-1, :, 0] - nat[0, :, 0]).max() > 0    # heat flows

@@ -13,6 +13,7 @@ by the library instead.  Notes (``common.note``) are printed on stderr only afte
 from __future__ import annotations
 
 import argparse
+import functools
 import logging
 import os
 import sys
@@ -61,6 +62,15 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+@functools.lru_cache(maxsize=1)
+def _parser() -> argparse.ArgumentParser:
+    """:func:`build_parser`, built once per process (about 20 ms: a few hundred options).
+    Parsing leaves the parser as it was (a call's state lives in its namespace, e.g. the
+    options already given), so in-process callers that run many command lines (the tests, the
+    fuzzer) share it."""
+    return build_parser()
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point; returns the exit status (see the module docstring)."""
     common.NOTES.clear()
@@ -74,7 +84,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _run(argv: Sequence[str] | None) -> int:
-    parser = build_parser()
+    parser = _parser()
     args = parser.parse_args(argv)  # --help, --version, usage errors: SystemExit (0 or 2)
     name = f"viscontact {args.command}"
     if getattr(args, "_law_required", False) and args.model is None:

@@ -298,20 +298,28 @@ def ideal_gas_band(n: int, cells: int, draws: int = 400, seed: int = 7, dumps: i
 def restitution_of_speed(law: LawSpec, setup: GasSetup, v_min: float, v_max: float,
                          points: int = 241) -> Callable[[np.ndarray], np.ndarray]:
     """e(g_n) of two of the gas's spheres under ``law`` as the plugin applies it (c0, tau of
-    the pair from the calibration at v_ref), solved exactly at ``points`` speeds spaced
-    evenly in ln g_n over [v_min, v_max] [m/s] and interpolated in ln g_n (held constant
-    outside)."""
-    from .. import dem
-    from ..physics.pair import ContactPair
-    from ..collision.sweep import velocity_sweep
+    the pair from the calibration at v_ref), at ``points`` speeds spaced evenly in ln g_n over
+    [v_min, v_max] [m/s] and interpolated in ln g_n (held constant outside).
 
+    Each speed is one non-dimensional collision (alpha, beta) = (c / (m* v^(1-p) ...), tau / T)
+    (:func:`viscontact.physics.pair.damping_constants`); e comes from
+    :func:`viscontact.calibration.inverse.restitution` (the precomputed tables, within 1e-10 of
+    the exact solver, or the compiled batch solver outside them: within 1e-8), all speeds at
+    once instead of one exact solve each."""
+    from .. import dem
+    from ..calibration.inverse import restitution
+    from ..physics.pair import ContactPair, damping_constants
+
+    m_eff = setup.mass / 2.0
     dl = dem.contact_law(law.model, e=law.e, vref=law.vref, beta=law.beta)
-    c0, tau = dl.physical(ContactPair.from_effective(m_eff=setup.mass / 2.0,
-                                                     k_hertz=setup.k_hertz))
+    c0, tau = dl.physical(ContactPair.from_effective(m_eff=m_eff, k_hertz=setup.k_hertz))
     speeds = np.geomspace(v_min, v_max, points)
     ln_v = np.log(speeds)
-    e = np.asarray(velocity_sweep(law.model, speeds, m_eff=setup.mass / 2.0,
-                                  k_hertz=setup.k_hertz, c=c0, tau=tau).e, dtype=float)
+    ab = [damping_constants(law.model, c0, m_eff=m_eff, k_hertz=setup.k_hertz, v=float(v),
+                            tau=tau) for v in speeds]
+    beta = None if ab[0][1] is None else np.array([b for _, b in ab])
+    e = np.asarray(restitution(law.model, np.array([a for a, _ in ab]), beta=beta),
+                   dtype=float)
 
     def e_of_speed(v: np.ndarray) -> np.ndarray:
         return np.interp(np.log(np.asarray(v, dtype=float)), ln_v, e)
