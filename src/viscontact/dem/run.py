@@ -28,6 +28,7 @@ from __future__ import annotations
 import contextlib
 import os
 import re
+import select
 import shutil
 import signal
 import subprocess
@@ -308,6 +309,26 @@ def available_cores() -> int:
         return os.cpu_count() or 1
 
 
+def _lines(fd: int, wake: float = 0.2) -> Iterator[str]:
+    """The text lines read from the pipe ``fd`` until its end.  The wait for output returns to
+    Python every ``wake`` seconds: a signal that the kernel hands to another thread of this
+    process (numpy's BLAS threads, say) does not interrupt a blocking read in the main thread,
+    so Ctrl-C would otherwise wait for LAMMPS's next line of output."""
+    pending = b""
+    while True:
+        ready, _, _ = select.select([fd], [], [], wake)
+        if not ready:
+            continue
+        chunk = os.read(fd, 65536)
+        if not chunk:
+            break
+        *whole, pending = (pending + chunk).split(b"\n")
+        for raw in whole:
+            yield raw.decode(errors="replace") + "\n"
+    if pending:
+        yield pending.decode(errors="replace")
+
+
 def _run(cmd: list[str], bar: Progress | None, cwd: Path, echo: Callable[[str], None] | None) -> int:
     """Run ``cmd`` (lmp, or mpirun ... lmp) in its own process group, following its output;
     any exception here (Ctrl-C, SIGTERM under :func:`stop_on_signals`) ends the whole tree."""
@@ -323,7 +344,7 @@ def _run(cmd: list[str], bar: Progress | None, cwd: Path, echo: Callable[[str], 
     proc = start_lammps(cmd, cwd=cwd, env=env)
     try:
         assert proc.stdout is not None
-        for line in proc.stdout:
+        for line in _lines(proc.stdout.fileno()):
             tail.append(line.rstrip("\n"))
             if prog is not None:
                 prog.feed(line)
