@@ -268,8 +268,12 @@ _LONG = _tiny_input(steps=10**9, natoms=50).replace("thermo 5", "thermo 10000000
 def _start(cmd: list[str], tmp: Path, cwd: Path) -> subprocess.Popen:
     env = dict(os.environ, PYTHONPATH=SRC + os.pathsep + os.environ.get("PYTHONPATH", ""),
                TMPDIR=str(tmp))
+    # SIGINT as in a terminal's foreground job: a runner started in the background of a
+    # script ignores SIGINT, and the child would inherit that (Python then installs no Ctrl-C
+    # handler at all)
     return subprocess.Popen(cmd, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True, start_new_session=True)
+                            text=True, start_new_session=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
 
 
 def _wait_for_lammps(proc: subprocess.Popen, want: int, timeout: float = 60) -> set[int]:
