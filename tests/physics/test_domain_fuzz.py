@@ -237,5 +237,5 @@ def test_readme_states_the_domain_table():
     """The README's section "Domain" is the table the code checks (one place)."""
     from pathlib import Path
 
-    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
     assert domain.domain_table() in readme

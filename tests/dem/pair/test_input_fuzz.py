@@ -27,6 +27,7 @@ from dem_util import needs_lammps, plugin_path
 
 pytestmark = needs_lammps
 
+TESTS = Path(__file__).resolve().parents[2]  # tests/, where dem_util lives (for the worker)
 SEED = 20261125
 N_LINES = 2400
 
@@ -219,8 +220,8 @@ def test_oracle_is_independent_and_can_fail():
 def test_fuzz_every_keyword_one_error_or_finite(tmp_path):
     lines = make_lines()
     (tmp_path / "lines.json").write_text(json.dumps(lines))
-    code = (f"import sys; sys.path.insert(0, {str(Path(__file__).parent)!r}); "
-            f"import test_dem_input_fuzz as t; t.worker(*sys.argv[1:])")
+    code = (f"import sys; sys.path[:0] = {[str(Path(__file__).parent), str(TESTS)]!r}; "
+            f"import test_input_fuzz as t; t.worker(*sys.argv[1:])")
     proc = subprocess.run([sys.executable, "-c", code, str(plugin_path()),
                            str(tmp_path / "lines.json"), str(tmp_path / "out.json")],
                           capture_output=True, text=True, timeout=300)

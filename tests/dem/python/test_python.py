@@ -475,7 +475,7 @@ def test_cli_plugin_coeff_and_run(tmp_path):
 
 def test_readme_shows_the_example_input():
     """The README's complete input is the example file the tests run (less its comment header)."""
-    readme = Path(__file__).resolve().parents[1] / "README.md"
+    readme = Path(__file__).resolve().parents[3] / "README.md"
     if not readme.is_file():
         pytest.skip("no README.md beside the tests (installed package)")
     text = readme.read_text()

