@@ -13,9 +13,9 @@ import signal
 import sys
 from collections.abc import Callable
 
-from ..domain import NP_MAX
-from ..domain import range_text as _R
-from ..laws import MODELS
+from ..physics.domain import NP_MAX
+from ..physics.domain import range_text as _R
+from ..physics.laws import MODELS
 from ..solvers import END_CRITERIA
 from .common import add_force_option, print_json
 
@@ -303,7 +303,7 @@ def _sub_models(args: argparse.Namespace) -> dict[str, object]:
 
 def _coeff(args: argparse.Namespace) -> int:
     from ..dem.coeff import coeff_set
-    from ..domain import check
+    from ..physics.domain import check
 
     if args.ptypes and (args.E is not None or args.nu is not None):
         raise ValueError("give --E/--nu (one material) or --type (one per atom type), not both")
@@ -373,7 +373,7 @@ def _coeff(args: argparse.Namespace) -> int:
 
 
 def _describe(law) -> str:
-    from ..dimensional import damping_unit
+    from ..physics.pair import damping_unit
 
     end = "zero-force end (clamp)" if law.end == "force" else "zero-overlap end (no clamp)"
     if not law.by_alpha:
