@@ -361,10 +361,10 @@ def _coeff(args: argparse.Namespace) -> int:
         return 0
     laws = {pl.law for pl in cs.pairs}
     if n == 1 and len(laws) == 1:
-        print(f"# {_describe(cs.pairs[0].law)}")
+        print(f"# {_describe(cs.pairs[0].law, cs.units)}")
     else:
         for pl in cs.pairs:
-            print(f"# pair {pl.types[0]} {pl.types[1]}: {_describe(pl.law)}")
+            print(f"# pair {pl.types[0]} {pl.types[1]}: {_describe(pl.law, cs.units)}")
     if cs.units != "si":
         print(f"# numbers in LAMMPS units {cs.units}" + (" (reduced units as typed)" if cs.units == "lj" else
                                                         " (converted from the SI values typed)"))
@@ -372,17 +372,22 @@ def _coeff(args: argparse.Namespace) -> int:
     return 0
 
 
-def _describe(law) -> str:
+def _describe(law, units: str = "si") -> str:
+    """The comment line of a law, its numbers as typed: SI, or reduced units with ``lj``."""
     from ..physics.pair import damping_unit
 
+    lj = units == "lj"  # typed in reduced units: no SI unit applies
     end = "zero-force end (clamp)" if law.end == "force" else "zero-overlap end (no clamp)"
     if not law.by_alpha:
-        tau = f", tau = {law.tau!r} s" if law.tau is not None else ""
-        return f"{law.law}: c0 = {law.c0!r} {damping_unit(law.p)}{tau}, {end}"
+        tau = (f", tau = {law.tau!r} {'(lj time units)' if lj else 's'}"
+               if law.tau is not None else "")
+        unit = "(lj units)" if lj else damping_unit(law.p)
+        return f"{law.law}: c0 = {law.c0!r} {unit}{tau}, {end}"
     beta = f", beta = {law.beta!r}" if law.beta is not None else ""
     what = f"gives e = {law.e!r} " if law.e is not None else ""
     return (f"{law.law}: alpha = {law.alpha!r}{beta} {what}at relative normal speed "
-            f"vref = {law.vref!r} m/s, {end}; c0 per contact from its m* and k_Hertz")
+            f"vref = {law.vref!r} {'(lj velocity units)' if lj else 'm/s'}, {end}; c0 per contact "
+            "from its m* and k_Hertz")
 
 
 def _run(args: argparse.Namespace) -> int:
