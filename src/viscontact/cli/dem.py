@@ -85,7 +85,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help=f"one material: Young's modulus of the particles, in {_R('modulus')}")
     c.add_argument("--nu", type=float, metavar="NU",
                    help=f"one material: Poisson ratio of the particles, in {_R('poisson')}")
-    c.add_argument("--type", dest="ptypes", action="append", default=[], metavar="SPEC",
+    c.add_argument("--type", dest="ptypes", action="append", default=[], metavar="PROPS",
                    help="one atom type (repeat in type order): E=PA,nu=NU[,density=KG/M3,d=LO:HI] "
                    "(d a diameter or range in m; density and d give the contact time and a time "
                    "step suggestion)")
