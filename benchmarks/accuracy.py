@@ -62,7 +62,7 @@ def main() -> None:
 
     balance = [abs(vc.collide(m, a, end=end, history=False, **EXTRA.get(m, {})).energy_error)
                for m in vc.MODELS for a in ALPHAS[::4] for end in ENDS]
-    _row("energy balance (SPEC section 5)", max(balance), 1e-8, len(balance))
+    _row("energy balance (docs/laws.md)", max(balance), 1e-8, len(balance))
 
     rng = np.random.default_rng(7)
     e_err = tc_err = 0.0
@@ -84,7 +84,7 @@ def main() -> None:
 
     err = max(abs(round(vc.collide(m, 0.3, history=False, **EXTRA.get(m, {})).e, 4) - v)
               for m, v in PUBLISHED.items())
-    _row("published e at alpha = 0.3 (SPEC 6), 4 decimals", err, 0.0, len(PUBLISHED))
+    _row("published e at alpha = 0.3 (Jian et al. 2019), 4 decimals", err, 0.0, len(PUBLISHED))
 
     err = max(abs(vc.restitution("Jian", a, beta=0.0, end=end) - vc.restitution("KK", a, end=end))
               for a in ALPHAS[::3] for end in ENDS)

@@ -116,7 +116,7 @@ def effective(setup: Setup, shot: Shot) -> tuple[float, float, float]:
 
 
 def hertz_tc(m_eff: float, k: float, v: float) -> float:
-    """Elastic Hertz contact time t_c = 3.2180654597 (m*/k)^(2/5) v^(-1/5) [s] (SPEC 9)."""
+    """Elastic Hertz contact time t_c = 3.2180654597 (m*/k)^(2/5) v^(-1/5) [s] (docs/laws.md)."""
     return vc.physics.pair.hertz_limit(m_eff, k, v)[0]
 
 
@@ -299,8 +299,9 @@ def _measure(setup: Setup, shot: Shot, idx, eff, t, X, F, V, W) -> Measured:
 
 def exact(setup: Setup, shot: Shot) -> vc.ImpactResult:
     """The exact single collision (``viscontact.impact``) with this shot's m*, k_Hertz and the
-    c0, tau that the law's FORM gives for them (SPEC section 3; computed here by
-    ``viscontact.damping_coefficient`` / ``time_scale``, not by the plugin)."""
+    c0, tau that the law's FORM gives for them (docs/pair_viscontact.md, "Damping prefactor
+    c0"; computed here by ``viscontact.damping_coefficient`` / ``time_scale``, not by the
+    plugin)."""
     law = setup.law
     m_eff, _, k = effective(setup, shot)
     p = law.p if law.law == "power" else None

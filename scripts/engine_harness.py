@@ -10,7 +10,7 @@ Geometries (SI units), all frictionless, no gravity, relative impact speed ``v``
 * ``wall``: a sphere of A moving at -v onto a flat wall of material B at x = 0.
 
 The delivered e is the relative normal speed after / before.  The time step is T/STEPS_PER_T
-with T = (m*^2 / (k_Hertz^2 v))^(1/5) the Hertz time scale (SPEC section 1): the contact lasts
+with T = (m*^2 / (k_Hertz^2 v))^(1/5) the Hertz time scale (Jian et al. 2019, docs/laws.md): the contact lasts
 about 3.2 T, so T/STEPS_PER_T = t_c/(3.2 STEPS_PER_T); the run ends RUN_T time scales after
 first touch.  The undamped cases (typed e = 1) also return the peak overlap, from which the
 engine's Hertz stiffness follows: delta_max = (5 m* v^2 / (4 k))^(2/5).

@@ -13,9 +13,9 @@ import signal
 import sys
 from collections.abc import Callable
 
-from ..domain import NP_MAX
-from ..domain import range_text as _R
-from ..laws import MODELS
+from ..physics.domain import NP_MAX
+from ..physics.domain import range_text as _R
+from ..physics.laws import MODELS
 from ..solvers import END_CRITERIA
 from .common import add_force_option, print_json
 
@@ -85,7 +85,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help=f"one material: Young's modulus of the particles, in {_R('modulus')}")
     c.add_argument("--nu", type=float, metavar="NU",
                    help=f"one material: Poisson ratio of the particles, in {_R('poisson')}")
-    c.add_argument("--type", dest="ptypes", action="append", default=[], metavar="SPEC",
+    c.add_argument("--type", dest="ptypes", action="append", default=[], metavar="PROPS",
                    help="one atom type (repeat in type order): E=PA,nu=NU[,density=KG/M3,d=LO:HI] "
                    "(d a diameter or range in m; density and d give the contact time and a time "
                    "step suggestion)")
@@ -303,7 +303,7 @@ def _sub_models(args: argparse.Namespace) -> dict[str, object]:
 
 def _coeff(args: argparse.Namespace) -> int:
     from ..dem.coeff import coeff_set
-    from ..domain import check
+    from ..physics.domain import check
 
     if args.ptypes and (args.E is not None or args.nu is not None):
         raise ValueError("give --E/--nu (one material) or --type (one per atom type), not both")
@@ -361,10 +361,10 @@ def _coeff(args: argparse.Namespace) -> int:
         return 0
     laws = {pl.law for pl in cs.pairs}
     if n == 1 and len(laws) == 1:
-        print(f"# {_describe(cs.pairs[0].law)}")
+        print(f"# {_describe(cs.pairs[0].law, cs.units)}")
     else:
         for pl in cs.pairs:
-            print(f"# pair {pl.types[0]} {pl.types[1]}: {_describe(pl.law)}")
+            print(f"# pair {pl.types[0]} {pl.types[1]}: {_describe(pl.law, cs.units)}")
     if cs.units != "si":
         print(f"# numbers in LAMMPS units {cs.units}" + (" (reduced units as typed)" if cs.units == "lj" else
                                                         " (converted from the SI values typed)"))
@@ -372,17 +372,22 @@ def _coeff(args: argparse.Namespace) -> int:
     return 0
 
 
-def _describe(law) -> str:
-    from ..dimensional import damping_unit
+def _describe(law, units: str = "si") -> str:
+    """The comment line of a law, its numbers as typed: SI, or reduced units with ``lj``."""
+    from ..physics.pair import damping_unit
 
+    lj = units == "lj"  # typed in reduced units: no SI unit applies
     end = "zero-force end (clamp)" if law.end == "force" else "zero-overlap end (no clamp)"
     if not law.by_alpha:
-        tau = f", tau = {law.tau!r} s" if law.tau is not None else ""
-        return f"{law.law}: c0 = {law.c0!r} {damping_unit(law.p)}{tau}, {end}"
+        tau = (f", tau = {law.tau!r} {'(lj time units)' if lj else 's'}"
+               if law.tau is not None else "")
+        unit = "(lj units)" if lj else damping_unit(law.p)
+        return f"{law.law}: c0 = {law.c0!r} {unit}{tau}, {end}"
     beta = f", beta = {law.beta!r}" if law.beta is not None else ""
     what = f"gives e = {law.e!r} " if law.e is not None else ""
     return (f"{law.law}: alpha = {law.alpha!r}{beta} {what}at relative normal speed "
-            f"vref = {law.vref!r} m/s, {end}; c0 per contact from its m* and k_Hertz")
+            f"vref = {law.vref!r} {'(lj velocity units)' if lj else 'm/s'}, {end}; c0 per contact "
+            "from its m* and k_Hertz")
 
 
 def _run(args: argparse.Namespace) -> int:

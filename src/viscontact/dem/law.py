@@ -23,6 +23,7 @@ from ..collision import check_end
 from ..physics import domain
 from ..physics.laws import MODELS, lookup, resolve
 from ..physics.pair import ContactPair, damping_coefficient
+from .native import native_hint
 from .units import _num, convert
 
 __all__ = ["DemLaw", "contact_law"]
@@ -150,7 +151,10 @@ def contact_law(
     alpha, beta, p, ``v`` for vref, ``c`` for c0, tau), else ValueError saying the range.
     """
     check_end(end)
-    spec = lookup(law)
+    try:
+        spec = lookup(law)
+    except ValueError as err:
+        raise ValueError(f"{err}{native_hint(law)}") from None
     name = spec.name
     forms = [k for k, v in (("e", e), ("alpha", alpha), ("c0", c0)) if v is not None]
     if len(forms) != 1:

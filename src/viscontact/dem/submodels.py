@@ -14,6 +14,7 @@ from typing import Any
 
 from ..physics import domain
 from .law import DemLaw
+from .native import native_hint
 from .units import _num, convert
 
 __all__ = ["Normal", "Tangential", "Rolling", "Twisting", "SubModels", "NORMAL_MODELS",
@@ -58,7 +59,10 @@ class Normal:
     W: float | None = None
 
     def __post_init__(self) -> None:
-        domain.check_choice("normal model", self.model, NORMAL_MODELS)
+        try:
+            domain.check_choice("normal model", self.model, NORMAL_MODELS)
+        except ValueError as err:
+            raise ValueError(f"{err}{native_hint(self.model)}") from None
         if self.model == "hertz":
             if self.W is not None:
                 raise ValueError("normal hertz takes no surface energy W (dmt W or jkr W do)")

@@ -474,12 +474,12 @@ def test_cli_plugin_coeff_and_run(tmp_path):
 
 
 def test_readme_shows_the_example_input():
-    """The README's complete input is the example file the tests run (less its comment header)."""
-    readme = Path(__file__).resolve().parents[3] / "README.md"
-    if not readme.is_file():
-        pytest.skip("no README.md beside the tests (installed package)")
-    text = readme.read_text()
-    section = text[text.index("## Many-particle DEM with LAMMPS"):]
+    """The docs' complete input (docs/dem.md) is the example file the tests run (less its
+    comment header)."""
+    page = Path(__file__).resolve().parents[3] / "docs" / "dem.md"
+    if not page.is_file():
+        pytest.skip("no docs/dem.md beside the tests (installed package)")
+    section = page.read_text()
     block = re.search(r"```\n(units .*?)```", section, re.S).group(1)
     example = EXAMPLE.read_text()
     body = example[example.index("units "):]

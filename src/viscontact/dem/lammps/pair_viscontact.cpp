@@ -142,7 +142,7 @@ void PairViscontact::parse_coeff(int narg, char **arg, vc::ContactModel &m, doub
     if (!kw.take(args, i, err))
       fail(fmt::format("pair viscontact: unknown keyword {} (allowed after the normal model: "
                        "damping, end, tangential, rolling, twisting, heat, cutoff)",
-                       vc::quoted(args[i])));
+                       vc::quoted(args[i])) + vc::native_hint(args, i));
     if (!err.empty()) fail("pair viscontact: " + err);
   }
   err = kw.finish(np.kind);

@@ -28,6 +28,7 @@
 
 #include "viscontact_contact.h"
 #include "viscontact_model.h"
+#include "viscontact_native_hints.h"
 
 #include <array>
 #include <cmath>
@@ -116,12 +117,12 @@ inline std::string parse_normal(const std::vector<std::string> &args, size_t &i,
   const bool cohesive = model == "dmt" || model == "jkr";
   if (model != "hertz/material" && !cohesive)
     return "expected 'hertz/material E NU', 'dmt E NU W' or 'jkr E NU W' after the two types, got " +
-        quoted(model);
+        quoted(model) + native_hint(args, i);
   const size_t nval = cohesive ? 3 : 2;
   if (i + nval >= args.size())
     return model + (cohesive ? " needs three values, E NU W" : " needs two values, E and NU");
   std::string err = parse_material("E", "nu", args[i + 1], args[i + 2], E, nu);
-  if (!err.empty()) return err;
+  if (!err.empty()) return err + native_hint(args, i);
   np.kind = model == "dmt" ? NormalKind::DMT : model == "jkr" ? NormalKind::JKR : NormalKind::Hertz;
   np.W = 0.0;
   if (cohesive) {
@@ -190,7 +191,7 @@ class LawKeywords {
         return fail(err, "damping needs a law: one of " + law_names());
       if (!parse_law(args[i + 1], lp.law))
         return fail(err, "unknown damping law " + quoted(args[i + 1]) +
-                             "; allowed: " + law_names());
+                             "; allowed: " + law_names() + native_hint(args, i + 1));
       lp.p = law_exponent(lp.law);
       i += 2;
       // the law's parameters, in any order, up to the next keyword that is not one of them
