@@ -79,7 +79,7 @@ def run(args: argparse.Namespace, laws: list[str]) -> tuple[Any, Inputs, Any]:
     """(RestitutionFit, Inputs, FitLines) from the command line."""
     from ..dem.fromfit import fit_lines
     from ..fit.audio import detect_impacts, read_audio
-    from ..fit.bounces import drag_constant, read_bounces, reduce_bounces
+    from ..fit.bounces import drag_constant, read_drops, reduce_bounces
     from ..fit.recording import RecordingError
     from ..fit.restitution import fit_restitution, read_restitution, restitution_data
     from ..physics.pair import HERTZ_TC, contact_pair, time_scale
@@ -109,8 +109,10 @@ def run(args: argparse.Namespace, laws: list[str]) -> tuple[Any, Inputs, Any]:
     drops, sources = [], []
     if args.bounces:
         for f in args.bounces:
-            drops.append(read_bounces(f))
-            sources.append(str(f))
+            mine = read_drops(f)
+            drops.extend(mine)
+            sources.extend([str(f)] if len(mine) == 1 else
+                           [f"{f}, drop {i}" for i in range(1, len(mine) + 1)])
     for f in args.audio or []:
         x, rate = read_audio(f)
         t = detect_impacts(x, rate)

@@ -33,7 +33,7 @@ from ..physics.pair import STANDARD_GRAVITY
 from .recording import RecordingError
 from .restitution import RestitutionData, restitution_data
 
-__all__ = ["read_bounces", "drag_constant", "flight_time", "landing_speed", "launch_speed",
+__all__ = ["read_bounces", "read_drops", "drag_constant", "flight_time", "landing_speed", "launch_speed",
            "Reduction", "reduce_bounces", "DRAG_COEFFICIENT", "AIR_DENSITY"]
 
 #: drag coefficient of a smooth sphere at the Reynolds numbers of a bouncing ball
@@ -79,6 +79,40 @@ def read_bounces(path: str | Path) -> np.ndarray:
         times = np.array(values, dtype=float)
     _check_times(path, times)
     return times
+
+
+def read_drops(path: str | Path) -> list[np.ndarray]:
+    """The impact times of every drop in a file: a table of intervals with a ``drop`` column
+    (header ``drop,...,interval [s]``: one row per interval, drops in order; impact times from
+    0 for each drop), else the one drop of :func:`read_bounces`."""
+    try:
+        text = Path(path).read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise RecordingError(f"{path}: cannot read the file ({exc})") from None
+    lines = [ln.split("#", 1)[0].strip() for ln in text.splitlines()]
+    lines = [ln for ln in lines if ln]
+    head = [c.strip().lower() for c in re.split(r"[,;\t]", lines[0])] if lines else []
+    if not head or head[0] != "drop":
+        return [read_bounces(path)]
+    col = next((i for i, c in enumerate(head) if c.startswith("interval")), None)
+    if col is None:
+        raise RecordingError(f"{path}: a table with a drop column needs an 'interval [s]' column")
+    drops: dict[str, list[float]] = {}
+    for ln in lines[1:]:
+        cells = [c.strip() for c in re.split(r"[,;\t]", ln)]
+        try:
+            drops.setdefault(cells[0], []).append(float(cells[col]))
+        except (ValueError, IndexError):
+            raise RecordingError(f"{path}: {ln!r} is not a row of drop and interval [s]") from None
+    out = []
+    for key, gaps in drops.items():
+        g = np.array(gaps)
+        if not np.all(np.isfinite(g) & (g > 0)):
+            raise RecordingError(f"{path}: drop {key}: intervals must be finite and > 0")
+        t = np.concatenate([[0.0], np.cumsum(g)])
+        _check_times(f"{path}, drop {key}", t)
+        out.append(t)
+    return out
 
 
 def _phyphox(path: Any, lines: list[str], cols: list[tuple[int, int]], width: int) -> np.ndarray:
@@ -191,6 +225,11 @@ def _glitches(I: np.ndarray) -> list[str | None]:
     prev = I[0] if why[0] is None else I[1] / rho
     j = 1
     while j < n:
+        if abs(I[j] - I[j - 1]) <= 1e-9 * I[j]:
+            why[j] = (f"interval {j + 1} ({I[j] * 1e3:.6g} ms) repeats the one before exactly: "
+                      "a repeated reading")
+            prev, j = prev * rho, j + 1
+            continue
         q = I[j] / prev
         if j + 1 < n and abs(math.log((I[j] + I[j + 1]) / prev / rho)) < abs(math.log(q / rho)) \
                 and abs(math.log((I[j] + I[j + 1]) / prev / rho)) < abs(math.log(I[j + 1] / I[j] / rho)):

@@ -54,6 +54,8 @@ _LN_BETA = (math.log(1e-4), math.log(1000.0))
 _P_RANGE = (0.0, 3.0)
 _H = 1e-5         # finite-difference step in the fitted coordinates (tables: 1e-10 in e)
 _MAX_ITER = 60
+#: more points than this: leave-one-out by the leverage form instead of n refits
+_LOO_REFIT_MAX = 40
 #: AICc difference below which two laws cannot be told apart
 AICC_TIE = 2.0
 
@@ -177,7 +179,7 @@ def read_restitution(path: str | Path) -> RestitutionData:
         line = raw.split("#", 1)[0].strip()
         if not line:
             continue
-        cells = [c.strip() for c in re.split(r"[,;\t]|\s+(?![^\[(]*[\])])", line) if c.strip()]
+        cells = _cells(line)
         try:
             rows.append([float(c) for c in cells])
         except ValueError:
@@ -200,6 +202,20 @@ def read_restitution(path: str | Path) -> RestitutionData:
     except ValueError as exc:
         msg = str(exc)
         raise RecordingError(msg if msg.startswith(str(path)) else f"{path}: {msg}") from None
+
+
+def _cells(line: str) -> list[str]:
+    """Cells of a row: split at commas, semicolons or tabs, else at spaces (a unit in brackets
+    stays with its column name)."""
+    if re.search(r"[,;\t]", line):
+        return [c.strip() for c in re.split(r"[,;\t]", line) if c.strip()]
+    out: list[str] = []
+    for tok in line.split():
+        if out and tok[0] in "[(":
+            out[-1] += " " + tok
+        else:
+            out.append(tok)
+    return out
 
 
 def _columns(path: Any, header: list[str] | None,
@@ -583,6 +599,12 @@ def fit_restitution(
     ranking = sorted(fits, key=lambda k: fits[k].aicc) if ranked else []
     verdict = _verdict(fits, ranking, n)
     notes = [f"uncertainties from {_SOURCE_TEXT[source]}"]
+    for f in fits.values():
+        if f.beta is not None and not math.exp(_LN_BETA[0]) * 1.01 < f.beta < math.exp(_LN_BETA[1]) / 1.01:
+            notes.append(f"{f.law}: beta_ref = {f.beta:.3g} is at the end of its search range "
+                         f"({math.exp(_LN_BETA[0]):g} to {math.exp(_LN_BETA[1]):g}): the data do "
+                         "not determine it (beta -> 0 is KK; a large beta damps only late in "
+                         "the contact), so its constants are not to be trusted")
     return RestitutionFit(data, fits, ranking, verdict, source, end, vref, notes,
                           list(rejected), [list(map(float, t)) for t in impacts])
 
@@ -597,9 +619,10 @@ def _fit_one(name: str, data: RestitutionData, w: np.ndarray, known: bool, vref:
     n = data.n
     k = _n_params(name)
     loo_ok = n >= k + 2
-    P = 1 + (n if loo_ok else 0)
+    refit = loo_ok and n <= _LOO_REFIT_MAX
+    P = 1 + (n if refit else 0)
     W = np.tile(w, (P, 1))
-    if loo_ok:
+    if refit:
         W[np.arange(1, P), np.arange(n)] = 0.0  # problem i + 1 leaves point i out
     b = _Batch(name, np.tile(data.v, (P, 1)), np.tile(data.e, (P, 1)), W, vref, end)
     theta, m, A = _lm(b)
@@ -607,8 +630,13 @@ def _fit_one(name: str, data: RestitutionData, w: np.ndarray, known: bool, vref:
     cov = _errors(A[:1], np.array([chi2]), n, k, known)[0]
     sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
     e_fit = m[0]
-    loo = float(np.sqrt(np.mean((m[np.arange(1, P), np.arange(n)] - data.e) ** 2))) \
-        if loo_ok else None
+    loo = None
+    if refit:
+        loo = float(np.sqrt(np.mean((m[np.arange(1, P), np.arange(n)] - data.e) ** 2)))
+    elif loo_ok:  # many points: the leverage form, r_i / (1 - h_ii) (exact for linear models)
+        J = _jacobian(_Batch(name, b.v[:1], b.e[:1], b.w[:1], vref, end), theta[:1], m[:1])[0]
+        h = w * np.einsum("ni,ij,nj->n", J, np.linalg.pinv(A[0]), J)
+        loo = float(np.sqrt(np.mean(((data.e - e_fit) / np.maximum(1.0 - h, 1e-12)) ** 2)))
     aicc = _aicc(np.array([chi2]), n, k, known)[0]
     spec = lookup(name)
     alpha = float(np.exp(theta[0, 0]))
