@@ -119,7 +119,9 @@ def test_missed_click_spurious_click_and_repeat_are_named():
     gaps = np.diff(t)
     repeat = np.concatenate([[0.0], np.cumsum(np.insert(gaps, 6, gaps[5]))])
     red = reduce_bounces([repeat])
-    assert any("e = 1 >= 1" in r["reason"] for r in red.rejected)
+    assert {r["impact"] for r in red.rejected} == {7, 8}
+    assert all("a repeated reading" in r["reason"] for r in red.rejected)
+    np.testing.assert_allclose(red.data.e, 0.8, atol=1e-12)
 
 
 def test_plain_column_and_phyphox_export(tmp_path):
