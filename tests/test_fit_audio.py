@@ -138,5 +138,10 @@ def test_bad_recordings(tmp_path, monkeypatch):
     wavfile.write(empty, 8000, np.zeros(0, dtype=np.int16))
     with pytest.raises(RecordingError, match="empty"):
         read_audio(empty)
+    long = tmp_path / "long.wav"
+    wavfile.write(long, 8000, np.zeros(8000 * 3, dtype=np.int16))
+    monkeypatch.setattr("viscontact.fit.audio.MAX_SECONDS", 2.0)
+    with pytest.raises(RecordingError, match="3 s long; at most 2 s"):
+        read_audio(long)
     silent = np.random.default_rng(0).standard_normal(44100) * 1e-3
     assert detect_impacts(silent, RATE).size < 3

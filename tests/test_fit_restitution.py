@@ -93,6 +93,16 @@ def test_uncertainty_from_residuals_and_from_replicates():
     assert f.loo is not None and f.loo > f.rms
 
 
+def test_zero_overlap_end():
+    """--end overlap: e(v) of KK under the zero-overlap end (exact solver) fitted with it gives
+    alpha back; fitted with the zero-force end it does not."""
+    e = restitution("KK", 0.3 * V ** 0.2, end="overlap", exact=True)
+    data = restitution_data(V, e)
+    assert fit_restitution(data, ["KK"], vref=1.0, end="overlap").laws["KK"].alpha == \
+        pytest.approx(0.3, rel=1e-6)
+    assert abs(fit_restitution(data, ["KK"], vref=1.0).laws["KK"].alpha - 0.3) > 1e-3
+
+
 def test_too_few_points_fit_without_a_ranking():
     v = np.array([0.5, 1.0, 2.0])
     fit = fit_restitution(restitution_data(v, true_e("Jian", v)), vref=1.0)

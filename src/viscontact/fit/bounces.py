@@ -44,6 +44,16 @@ AIR_DENSITY = 1.2
 _BOUNCE_COL = re.compile(r"^\s*\"?\s*(?:bounce|time)\s*(\d+)\s*\(s\)\s*\"?\s*$", re.IGNORECASE)
 
 
+def _lines(path: str | Path) -> list[str]:
+    """The file's non-empty lines, '#' comments removed."""
+    try:
+        text = Path(path).read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise RecordingError(f"{path}: cannot read the file ({exc})") from None
+    lines = [ln.split("#", 1)[0].strip() for ln in text.splitlines()]
+    return [ln for ln in lines if ln]
+
+
 def read_bounces(path: str | Path) -> np.ndarray:
     """Impact times [s] from one drop's file.
 
@@ -53,12 +63,7 @@ def read_bounces(path: str | Path) -> np.ndarray:
     turned into impact times from 0.  RecordingError names what is wrong (too few impacts,
     times not increasing, non-finite values).
     """
-    try:
-        text = Path(path).read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise RecordingError(f"{path}: cannot read the file ({exc})") from None
-    lines = [ln.split("#", 1)[0].strip() for ln in text.splitlines()]
-    lines = [ln for ln in lines if ln]
+    lines = _lines(path)
     if not lines:
         raise RecordingError(f"{path}: empty; give one impact time [s] per line, or phyphox's "
                              "(In)elastic collision export")
@@ -85,12 +90,7 @@ def read_drops(path: str | Path) -> list[np.ndarray]:
     """The impact times of every drop in a file: a table of intervals with a ``drop`` column
     (header ``drop,...,interval [s]``: one row per interval, drops in order; impact times from
     0 for each drop), else the one drop of :func:`read_bounces`."""
-    try:
-        text = Path(path).read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise RecordingError(f"{path}: cannot read the file ({exc})") from None
-    lines = [ln.split("#", 1)[0].strip() for ln in text.splitlines()]
-    lines = [ln for ln in lines if ln]
+    lines = _lines(path)
     head = [c.strip().lower() for c in re.split(r"[,;\t]", lines[0])] if lines else []
     if not head or head[0] != "drop":
         return [read_bounces(path)]
