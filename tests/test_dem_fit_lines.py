@@ -34,6 +34,6 @@ def test_fitted_lines_deliver_the_fitted_e(law, second):
     assert lines.pair_coeff == dem.coeff_lines(dl, E=MAT.E, nu=MAT.nu, plugin="x").pair_coeff
     speeds = V[[1, 4, 7]]
     shots = [dc.Shot("wall", float(v)) for v in speeds]
-    measured = dc.run(dc.Setup(dl, MAT, 0.01, shots, wall="rigid", steps_per_tc=2000))
+    measured = dc.run(dc.Setup(dl, MAT, 0.01, shots, wall="rigid", steps_per_tc=1000))
     got = np.array([m.e for m in measured])
     np.testing.assert_allclose(got, one.e_at(speeds), rtol=0, atol=1e-3)
