@@ -155,3 +155,32 @@ def test_m4a_without_a_decoder(tmp_path, capsys, monkeypatch):
     assert main(["fit", "--audio", str(m4a), "--no-drag", "--quiet"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "convert it to WAV first" in err
+
+
+def test_bounces_with_the_laws_own_contact_time(tmp_path, capsys):
+    """A soft ball (KK, fixed c) bouncing without drag: each interval is the exact contact
+    (viscontact.impact) plus the flight 2u/g.  With E and nu the reduction takes off the
+    best law's own t_c(v) and gives the true (v, e) back (from the second point: the first
+    impact's speed, so its contact time, is unknown)."""
+    import viscontact as vc
+    from viscontact.physics.pair import contact_pair
+
+    m, r, E, nu, c = 0.05, 0.02, 1e6, 0.3, 20.0
+    k = contact_pair(m, radius=r, modulus=E, poisson=nu).k_hertz
+    v, t, times, truth = 3.0, 0.0, [0.0], []  # impact 0 at t = 0 with speed v
+    for _ in range(9):
+        hit = vc.impact("KK", m_eff=m, k_hertz=k, v=v, c=c, history=False)
+        truth.append((v, hit.e))
+        u = hit.e * v
+        t += hit.tc + 2 * u / 9.81  # this impact's contact, then the flight
+        times.append(t)
+        v = u
+    f = tmp_path / "drop.txt"
+    f.write_text("\n".join(f"{x:.15f}" for x in times) + "\n")
+    assert main(["fit", "--bounces", str(f), "--no-drag", "--mass", str(m), "--radius", str(r),
+                 "--E", str(E), "--nu", str(nu), "--laws", "KK", "Ts", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)["restitution"]
+    assert any("its own t_c(v)" in n for n in d["notes"])
+    # point j is impact j + 1; the first uses impact 0's contact time, taken at a guessed speed
+    np.testing.assert_allclose(d["data"]["v"][1:], [p[0] for p in truth[2:]], atol=1e-6)
+    np.testing.assert_allclose(d["data"]["e"][1:], [p[1] for p in truth[2:]], atol=1e-6)

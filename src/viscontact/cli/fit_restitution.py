@@ -140,6 +140,17 @@ def run(args: argparse.Namespace, laws: list[str]) -> tuple[Any, Inputs, Any]:
         else:
             contact = None
         red = reduce_bounces(drops, k_drag=k, contact_time=contact, sources=sources)
+        if callable(contact) and not sets:
+            # the law's own t_c: the best law of a first fit (with the Hertz t_c) gives it,
+            # and the timings are reduced again with it
+            first = fit_restitution(red.data, laws, end=args.end, vref=vref).best
+            own = reduce_bounces(drops, k_drag=k, sources=sources,
+                                 contact_time=lambda v: float(first.contact_time(v, mass, k_hertz)[0]))
+            red = type(red)(own.data, own.rejected, own.impacts,
+                            own.notes[:-1] + [f"the contact time of {first.law} (its own t_c(v), "
+                                              "from a first fit with the Hertz t_c; E and nu "
+                                              "give k_Hertz) taken off each interval"],
+                            own.points)
         sets.append(red.data)
         rejected, impacts = red.rejected, red.impacts
         inp.points = red.points

@@ -520,6 +520,23 @@ class RestitutionLawFit:
         return model_e(self.law, v, self.vref, self.alpha, beta=self.beta,
                        p=self.p if lookup(self.law).p is None else None, end=self.end)
 
+    def contact_time(self, v: Any, mass: float, k_hertz: float) -> np.ndarray:
+        """This law's own contact time [s] at impact speeds ``v`` for a ball of ``mass`` [kg]
+        and ``k_hertz`` [N/m^1.5]: t_c(alpha(v)[, beta(v)]) / T times T(v) (the undamped
+        3.218 T only at alpha -> 0)."""
+        from ..physics.laws import resolve
+        from ..solvers.batch import solve_batch
+
+        spec = lookup(self.law)
+        v_a = np.atleast_1d(np.asarray(v, dtype=float))
+        s = v_a / self.vref
+        a = np.minimum(self.alpha * s ** ((4 * self.p - 1) / 5.0), 1000.0)
+        lp = resolve(self.law, beta=0.0 if spec.needs_beta else None,
+                     p=self.p if spec.p is None else None)
+        b = None if self.beta is None else np.minimum(self.beta * s ** 0.2, 1000.0)
+        tc_hat = solve_batch(lp, a, self.end, beta=b, dissipated=False).tc
+        return tc_hat * (mass / k_hertz) ** 0.4 / v_a ** 0.2
+
     def to_dict(self) -> dict[str, Any]:
         return {"law": self.law, "end": self.end, "vref": self.vref, "alpha": self.alpha,
                 "alpha_err": self.alpha_err, "beta": self.beta, "beta_err": self.beta_err,

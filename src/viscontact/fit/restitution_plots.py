@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.ticker import ScalarFormatter
 
 from ..collision.plots import LAW_COLORS
 from .restitution import RestitutionFit
@@ -44,6 +45,9 @@ def plot_restitution(fit: RestitutionFit, path: str | Path) -> Path:
         res.plot(d.v * (1 + shift), d.e - f.e_fit, "o", ms=3, color=color)
     res.axhline(0.0, color="black", lw=0.8)
     ax.set_xscale("log")
+    for axis in (ax.xaxis, res.xaxis):
+        axis.set_major_formatter(ScalarFormatter())
+        axis.set_minor_formatter(ScalarFormatter())
     ax.set_ylabel("restitution e")
     ax.set_title(fit.verdict, fontsize=8, wrap=True)
     ax.legend(fontsize=7)
