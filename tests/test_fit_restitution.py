@@ -109,6 +109,8 @@ def test_too_few_points_fit_without_a_ranking():
     assert fit.ranking == [] and "too few points to rank" in fit.verdict
     assert fit.laws["KK"].aicc is not None and fit.laws["Jian"].aicc is None
     assert fit.laws["Jian"].alpha == pytest.approx(0.6, rel=1e-5)
+    two = fit_restitution(restitution_data(v[:2], true_e("KK", v[:2])), vref=1.0)
+    assert two.best.n_params == 1 and two.laws["power"].rms < 1e-9  # power fits any 2 points
 
 
 def test_physical_constants_with_the_pair():

@@ -165,6 +165,9 @@ def run(args: argparse.Namespace, laws: list[str]) -> tuple[Any, Inputs, Any]:
     elif k_hertz is None and data.tc is None:
         fit.notes.append("c and tau need k_Hertz: give --E, --nu and --radius, or a tc column")
     lines = fit_lines(fit, law=args.dem_law, E=modulus, nu=args.poisson)
+    if not fit.ranking and args.dem_law is None:
+        lines.notes.insert(0, f"no ranking: the lines are for {lines.law.law}, the one-constant "
+                           "law of smallest rms; choose another with --dem-law NAME")
     return fit, inp, lines
 
 

@@ -569,9 +569,12 @@ class RestitutionFit:
 
     @property
     def best(self) -> RestitutionLawFit:
-        """The first of the ranking (by rms when there is none)."""
-        name = self.ranking[0] if self.ranking else min(self.laws, key=lambda k: self.laws[k].rms)
-        return self.laws[name]
+        """The first of the ranking; without one, the smallest rms among the laws with fewer
+        constants than points (a law with as many constants as points fits any data)."""
+        if self.ranking:
+            return self.laws[self.ranking[0]]
+        pool = [k for k, f in self.laws.items() if f.n_params < self.data.n] or list(self.laws)
+        return self.laws[min(pool, key=lambda k: self.laws[k].rms)]
 
     def to_dict(self) -> dict[str, Any]:
         """The ``restitution`` object of ``viscontact fit --json``."""
