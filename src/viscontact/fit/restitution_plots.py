@@ -63,15 +63,22 @@ def plot_reduction(points: Sequence[dict[str, Any]], path: str | Path) -> Path:
     fig = Figure(figsize=(7, 4.5))
     ax = fig.subplots()
     drops = sorted({p["drop"] for p in points})
+    named = len(drops) <= 8  # a legend entry per drop only while it stays readable
+    marked = False
     for d in drops:
         mine = [p for p in points if p["drop"] == d]
         kept = [p for p in mine if p["kept"]]
         left = [p for p in mine if not p["kept"]]
-        line = ax.plot([p["v"] for p in kept], [p["e"] for p in kept], "o-", ms=4,
-                       label=str(mine[0].get("source", f"drop {d}")))
+        src = str(mine[0].get("source", f"drop {d}"))
+        line = ax.plot([p["v"] for p in kept], [p["e"] for p in kept], "o-", ms=4, lw=0.8,
+                       label=Path(src.split(", drop")[0]).name + src[len(src.split(", drop")[0]):]
+                       if named else None)
         if left:
             ax.plot([p["v"] for p in left], [p["e"] for p in left], "x", ms=8, mew=2,
-                    color=line[0].get_color(), label="left out" if d == drops[0] else None)
+                    color=line[0].get_color(), label=None if marked else "left out")
+            marked = True
+    if not named:
+        ax.plot([], [], "o-", color="0.5", label=f"{len(drops)} drops, one colour each")
     ax.set_xlabel("impact speed v [m/s]")
     ax.set_ylabel("restitution e")
     ax.set_title("bounce timings reduced to (v, e)", fontsize=9)
