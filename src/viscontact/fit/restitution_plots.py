@@ -97,9 +97,9 @@ def plot_onsets(x: np.ndarray, rate: float, times: np.ndarray, path: str | Path,
     n = x.size // step
     blocks = np.abs(x[: n * step]).reshape(n, step).max(axis=1)
     t = (np.arange(n) * step + step / 2) / rate
-    ax.fill_between(t, -blocks, blocks, color="0.5", lw=0)
+    ax.fill_between(t, -blocks, blocks, color="0.35", lw=0.6, edgecolor="0.35")
     for k, tk in enumerate(times):
-        ax.axvline(tk, color="tab:red", lw=0.8)
+        ax.axvline(tk, color="tab:red", lw=0.8, ls="--", alpha=0.7)
         ax.text(tk, 1.02, str(k + 1), transform=ax.get_xaxis_transform(), fontsize=6,
                 ha="center", color="tab:red")
     ax.set_xlabel("time [s]")
