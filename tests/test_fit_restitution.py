@@ -183,3 +183,16 @@ def test_shipped_golf_ball():
     best = fit.laws[fit.ranking[0]].aicc
     assert fit.laws["Ts"].aicc - best < 2 and fit.laws["KK"].aicc - best > 20
     assert abs(fit.laws["power"].p - 0.25) < 3 * fit.laws["power"].p_err
+
+
+def test_k_hertz_from_measured_contact_times():
+    """Contact times of exact impacts (viscontact.impact, one c for all speeds) give k_Hertz
+    back through the law's own t_c / T, and with it c."""
+    import viscontact as vc
+
+    m, k, c = 0.1547, 1.688e6, 600.0
+    hits = [vc.impact("KK", m_eff=m, k_hertz=k, v=float(v), c=c, history=False) for v in V]
+    data = restitution_data(V, [h.e for h in hits], tc=[h.tc for h in hits])
+    f = fit_restitution(data, ["KK"], mass=m).laws["KK"]
+    assert f.k_hertz == pytest.approx(k, rel=1e-6)
+    assert f.c == pytest.approx(c, rel=1e-6)

@@ -524,17 +524,8 @@ class RestitutionLawFit:
         """This law's own contact time [s] at impact speeds ``v`` for a ball of ``mass`` [kg]
         and ``k_hertz`` [N/m^1.5]: t_c(alpha(v)[, beta(v)]) / T times T(v) (the undamped
         3.218 T only at alpha -> 0)."""
-        from ..physics.laws import resolve
-        from ..solvers.batch import solve_batch
-
-        spec = lookup(self.law)
         v_a = np.atleast_1d(np.asarray(v, dtype=float))
-        s = v_a / self.vref
-        a = np.minimum(self.alpha * s ** ((4 * self.p - 1) / 5.0), 1000.0)
-        lp = resolve(self.law, beta=0.0 if spec.needs_beta else None,
-                     p=self.p if spec.p is None else None)
-        b = None if self.beta is None else np.minimum(self.beta * s ** 0.2, 1000.0)
-        tc_hat = solve_batch(lp, a, self.end, beta=b, dissipated=False).tc
+        tc_hat = _tc_over_T(self.law, self.alpha, self.beta, self.p, self.vref, v_a, self.end)
         return tc_hat * (mass / k_hertz) ** 0.4 / v_a ** 0.2
 
     def to_dict(self) -> dict[str, Any]:
@@ -708,21 +699,26 @@ def _physical(name: str, alpha: float, beta: float | None, p: float, cov: np.nda
     return out
 
 
+def _tc_over_T(law: str, alpha: float, beta: float | None, p: float, vref: float,
+               v: np.ndarray, end: str) -> np.ndarray:
+    """The law's own contact time t_c / T at impact speeds v, at alpha(v) (and beta(v)) of
+    the fit (the undamped 3.218 only at alpha -> 0)."""
+    from ..physics.laws import resolve
+    from ..solvers.batch import solve_batch
+
+    spec = lookup(law)
+    s = v / vref
+    a = np.minimum(alpha * s ** ((4 * p - 1) / 5.0), 1000.0)
+    lp = resolve(law, beta=0.0 if spec.needs_beta else None, p=p if spec.p is None else None)
+    b = None if beta is None else np.minimum(beta * s ** 0.2, 1000.0)
+    return solve_batch(lp, a, end, beta=b, dissipated=False).tc
+
+
 def _k_from_contact_times(name: str, alpha: float, beta: float | None, p: float, vref: float,
                           mass: float, data: RestitutionData, end: str) -> tuple[float, float]:
-    """k_Hertz from each measured t_c with the law's own t_c(alpha)/T (section 11 of the
-    project's docs: t_c = 3.218 T only at alpha -> 0): T = t_c / that,
-    k = m* / (T^(5/2) v^(1/2)); the mean and its standard error."""
-    from ..solvers.batch import solve_batch
-    from ..physics.laws import resolve
-
-    spec = lookup(name)
-    s = data.v / vref
-    a = np.minimum(alpha * s ** ((4 * p - 1) / 5.0), 1000.0)
-    lp = resolve(name, beta=0.0 if spec.needs_beta else None, p=p if spec.p is None else None)
-    b = None if beta is None else np.minimum(beta * s ** 0.2, 1000.0)
-    tc_hat = solve_batch(lp, a, end, beta=b, dissipated=False).tc
-    T = data.tc / tc_hat
+    """k_Hertz from each measured t_c with the law's own t_c / T (:func:`_tc_over_T`):
+    T = t_c / that, k = m* / (T^(5/2) v^(1/2)); the mean and its standard error."""
+    T = data.tc / _tc_over_T(name, alpha, beta, p, vref, data.v, end)
     k = mass / (T ** 2.5 * np.sqrt(data.v))
     err = float(np.std(k, ddof=1) / math.sqrt(k.size)) if k.size > 1 else float("nan")
     return float(np.mean(k)), err
