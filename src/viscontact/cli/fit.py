@@ -1,4 +1,6 @@
-"""``viscontact fit``: fit the contact laws to force-plate recordings of impacts."""
+"""``viscontact fit``: fit the contact laws to force-plate recordings of impacts, and to
+restitution measured at several speeds (a table, bounce timings, recordings: see
+:mod:`.fit_restitution`)."""
 
 from __future__ import annotations
 
@@ -20,6 +22,7 @@ from ..fit.recording import (FORCE_UNITS, TIME_UNITS, Measured, RecordingError,
                              measure, read_recording)
 from ..fit.synthetic import EXAMPLE, example_recording
 from ..physics.laws import lookup
+from . import fit_restitution as _res
 from .common import add_force_option, finite_json, note, print_json
 from ..physics.domain import range_text as _R
 from ..physics.laws import Power
@@ -32,7 +35,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         "for the overlap and its rate, report what they say (e, t_c, F_max, delta_max, k_Hertz, "
         "residual overlap), fit every law by least squares with uncertainties, and rank the "
         "laws. Several recordings (e.g. one per drop height) also get one global fit of the "
-        "physical constants c, tau, k_Hertz per law.")
+        "physical constants c, tau, k_Hertz per law. --restitution, --bounces and --audio fit "
+        "every law to e measured at several impact speeds instead (or as well), rank them "
+        "and write the DEM lines of the best.")
     p.add_argument("recordings", nargs="*", metavar="RECORDING",
                    help="CSV or whitespace-separated file: time and force columns, '#' comments, "
                    "optional header with units such as 'time [ms],force [N]'")
@@ -40,8 +45,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="fit the example recording that ships with viscontact (a synthetic "
                    f"{EXAMPLE['model']} drop of the {EXAMPLE['ball']} ball)")
     b = p.add_argument_group("the impact (SI units)")
-    b.add_argument("--mass", "--m-eff", dest="mass", type=float, metavar="KG", required=True,
-                   help=f"mass of the ball m*, in {_R('mass')} (a ball on a rigid plate: m* = m)")
+    b.add_argument("--mass", "--m-eff", dest="mass", type=float, metavar="KG",
+                   help=f"mass of the ball m*, in {_R('mass')} (a ball on a rigid plate: m* = m); "
+                   "needed by force recordings, by the air drag of --bounces/--audio and by "
+                   "the physical constants")
     b.add_argument("--radius", "--r-eff", dest="radius", type=float, metavar="M",
                    help=f"radius R*, in {_R('radius')} (optional: for the effective modulus E*)")
     b.add_argument("--velocity", "--v", dest="velocity", type=float, nargs="+", metavar="M/S",
@@ -62,6 +69,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    metavar=("W_F", "W_DELTA", "W_RATE"),
                    help=f"weights of the force, overlap and overlap-rate residuals, each in {_R('weight')}, scaled "
                    "by F_max, delta_max, v_i (default 1 0 0: force only)")
+    _res.add_options(p)
     o = p.add_argument_group("output")
     o.add_argument("--out", metavar="DIR",
                    help="write fit.json and the plots (fit_<recording>.png, global.png) into DIR "
@@ -75,8 +83,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def _paths(args: argparse.Namespace) -> list[str]:
     paths = list(args.recordings) + ([str(example_recording())] if args.example else [])
-    if not paths:
-        raise ValueError("give one or more recordings (or --example)")
+    if not paths and not _res.wanted(args):
+        raise ValueError("give one or more recordings (or --example), or restitution data: "
+                         "--restitution, --bounces or --audio")
     return paths
 
 
@@ -144,15 +153,44 @@ def _print_global(fits: list[GlobalFit]) -> None:
 
 def _fit(args: argparse.Namespace) -> int:
     paths = _paths(args)
-    speeds = _speeds(args, len(paths))
     laws = _laws(args.laws)
-    weights = Weights(*args.weights)
     if args.force and args.out is None:
         raise ValueError("--force only goes with --out")
-    out = None if args.out is None else outputs.OutputDir(
-        args.out, "fit", args.force, expected=_output_names(paths))
-    mass = check_positive("--mass", args.mass)
-    measured = [_measure(p, v, mass, args) for p, v in zip(paths, speeds)]
+    res = _res.wanted(args)
+    names = (_output_names(paths) if paths else ["fit.json"]) + (_res.output_names(args) if res else [])
+    out = None if args.out is None else outputs.OutputDir(args.out, "fit", args.force,
+                                                          expected=names)
+    measured: list[Measured] = []
+    results: list[list[LawFit]] = []
+    globals_: list[GlobalFit] = []
+    if paths:
+        speeds = _speeds(args, len(paths))
+        weights = Weights(*args.weights)
+        if args.mass is None:
+            raise ValueError("force recordings need the ball's --mass (kg)")
+        mass = check_positive("--mass", args.mass)
+        measured = [_measure(p, v, mass, args) for p, v in zip(paths, speeds)]
+        results, globals_ = _fit_recordings(measured, laws, weights, args)
+    restitution = _res.run(args, laws) if res else None
+    doc = _document(measured, results, globals_) if paths else {}
+    if restitution is not None:
+        doc["restitution"] = _res.document(restitution[0], restitution[2])
+    if out is not None:
+        _write_outputs(out, measured, results, globals_, doc, args, restitution)
+    if args.json:
+        print_json(doc)
+        return 0
+    for m, fits in zip(measured, results):
+        _print_recording(m, fits)
+    if globals_:
+        _print_global(globals_)
+    if restitution is not None:
+        _res.print_result(*restitution)
+    return 0
+
+
+def _fit_recordings(measured: list[Measured], laws: list[str], weights: Weights,
+                    args: argparse.Namespace) -> tuple[list[list[LawFit]], list[GlobalFit]]:
     glob = len(measured) > 1
     bar = Progress(len(measured) * len(laws) + (len(laws) if glob else 0), unit="fit",
                    leave=False, stream=None if args.quiet else sys.stderr)
@@ -170,17 +208,7 @@ def _fit(args: argparse.Namespace) -> int:
             bar.update()
         globals_.sort(key=lambda g: g.bic)
     bar.close()
-    doc = _document(measured, results, globals_)
-    if out is not None:
-        _write_outputs(out, measured, results, globals_, doc)
-    if args.json:
-        print_json(doc)
-        return 0
-    for m, fits in zip(measured, results):
-        _print_recording(m, fits)
-    if globals_:
-        _print_global(globals_)
-    return 0
+    return results, globals_
 
 
 def _document(measured: list[Measured], results: list[list[LawFit]],
@@ -268,7 +296,7 @@ def _measure(path: str, v: float, mass: float, args: argparse.Namespace) -> Meas
 
 def _write_outputs(out: outputs.OutputDir, measured: list[Measured],
                    results: list[list[LawFit]], globals_: list[GlobalFit],
-                   doc: dict[str, Any]) -> None:
+                   doc: dict[str, Any], args: argparse.Namespace, restitution: Any) -> None:
     from ..fit.plots import plot_fit, plot_global
 
     with out:
@@ -276,6 +304,8 @@ def _write_outputs(out: outputs.OutputDir, measured: list[Measured],
             plot_fit(m, fits, out.staging / name)
         if globals_:
             plot_global(globals_, out.staging / "global.png")
+        if restitution is not None:
+            _res.write_outputs(out.staging, args, restitution[0], restitution[1])
         text = json.dumps(finite_json(doc), indent=2) + "\n"
         (out.staging / "fit.json").write_text(text, encoding="utf-8")
     note(f"fit.json and plots written to {out.out}{os.sep}")
