@@ -69,25 +69,28 @@ _OUR_PAIR = f"pair_style viscontact {_CUT!r}\npair_coeff * * {{model}}\n"
 _NO_PAIR = "pair_style zero 0.02\npair_coeff * *\n"
 
 
-def _pair_models(normal: str, tail: str, c0: float = 0.001, hertz: bool = True) -> dict:
-    """(native, ours) pair_coeff tails: LH ``c0`` = native ``damping velocity`` (and ``end
-    force`` = ``limit_damping`` for hertz); ``tail`` = the tangential, rolling, twisting words
-    (native's ``linear_nohistory 0 0`` for our ``none``)."""
+def _pair_models(normal: str, tail: str, c0: float = 0.001) -> dict[str, str]:
+    """Native's and our pair_coeff tails by pair style: LH ``c0`` = native ``damping velocity``
+    (and ``end force`` = ``limit_damping`` for hertz); ``tail`` = the tangential, rolling,
+    twisting words (native's ``linear_nohistory 0 0`` for our ``none``)."""
     nat_tail = tail.replace("tangential none", "tangential linear_nohistory 0 0")
     if normal == "hertz":
-        return {"granular": f"hertz/material {E} {c0} {NU} damping velocity {nat_tail} limit_damping",
+        return {"granular": (f"hertz/material {E} {c0} {NU} damping velocity {nat_tail} "
+                             "limit_damping"),
                 "viscontact": f"hertz/material {E} {NU} damping LH c0 {c0} {tail}"}
     W = 2.0    # jkr surface energy [J/m^2]: pull-off at an overlap of -8.5 um for these spheres
     return {"granular": f"jkr {E} {c0} {NU} {W} damping velocity {nat_tail}",
             "viscontact": f"jkr {E} {NU} {W} damping LH c0 {c0} {tail}"}
 
 
-def _two(gap: float, v1=(0, 0, 0), w1=(0, 0, 0), v2=(0, 0, 0), w2=(0, 0, 0)) -> str:
+def _two(gap: float, v1=(0, 0, 0), w1=(0, 0, 0), v2=(0, 0, 0),
+         w2=(0, 0, 0)) -> tuple[str, str]:
     """Two spheres on the x axis, either side of x = 0 (the rank boundary on 2 ranks), overlap
-    -gap (gap < 0: overlapping), with velocities and spins."""
+    -gap (gap < 0: overlapping): (the lines that create them, those that set their velocities
+    and spins)."""
     x = R + 0.5 * gap
-    lines = f"create_atoms 1 single {-x!r} 0 0\ncreate_atoms 1 single {x!r} 0 0\n"
-    return lines, (f"velocity one set {v1[0]} {v1[1]} {v1[2]}\n"
+    atoms = f"create_atoms 1 single {-x!r} 0 0\ncreate_atoms 1 single {x!r} 0 0\n"
+    return atoms, (f"velocity one set {v1[0]} {v1[1]} {v1[2]}\n"
                    f"set atom 1 omega {w1[0]} {w1[1]} {w1[2]}\n"
                    f"group two id 2\nvelocity two set {v2[0]} {v2[1]} {v2[2]}\n"
                    f"set atom 2 omega {w2[0]} {w2[1]} {w2[2]}\n")
@@ -105,7 +108,9 @@ _SQUEEZE = ("set atom 1 x {x1!r} y 0 z 0\nset atom 2 x {x2!r} y 0 z 0\nvelocity 
 _HOLD = "fix hold all setforce 0 0 0\n"    # the first run builds springs without moving apart
 
 
-def _pair_case(normal, tail, gap, motion, prep="", change="", c0=0.001):
+def _pair_case(normal, tail, gap, motion, prep="", change="", c0=0.001) -> dict:
+    """A pair case: two spheres (:func:`_two`), the models, the lines before the tested start
+    (``prep``: velocities, a first run) and those that change the state for it."""
     atoms, vel = _two(gap, **motion)
     return {"atoms": atoms, "models": _pair_models(normal, tail, c0), "prep": vel + prep,
             "change": change, "pair": True}
@@ -128,19 +133,22 @@ PAIR_CASES = {
                               change=_SQUEEZE.format(x1=-_X_TINY, x2=_X_TINY, spin="")),
     "twist_stored": _pair_case("hertz", "tangential none " + TWIST_STORED, -1e-4,
                                dict(w1=(50, 0, 0)), prep=_HOLD + "run 50\n",
-                               change=_SQUEEZE.format(x1=-_X_TINY, x2=_X_TINY, spin="set atom 1 omega 0.5 0 0\n")),
-    # a sliding contact, then pulled apart for a setup (run 0) and pushed back at rest
+                               change=_SQUEEZE.format(x1=-_X_TINY, x2=_X_TINY,
+                                                      spin="set atom 1 omega 0.5 0 0\n")),
+    # a sliding contact, pulled apart for a setup (run 0), pushed back and sliding slowly
     "drop": _pair_case("hertz", TANG, -1e-4, dict(v1=(0, -0.15, 0), v2=(0, 0.15, 0)),
                        prep=_HOLD + "run 50\n",
-                       change=(f"set atom 1 x {-R + 5e-5!r} y 0 z 0\nset atom 2 x {R + 1e-4!r} y 0 z 0\n"
+                       change=(f"set atom 1 x {-R + 5e-5!r} y 0 z 0\n"
+                               f"set atom 2 x {R + 1e-4!r} y 0 z 0\n"
                                f"run 0\nset atom 2 x {R - 5e-5!r}\n"
-                               "velocity all set 0 0 0\nset group all omega 0 0 0\nvelocity two set 0 1e-3 0\nunfix hold\n")),
+                               "velocity all set 0 0 0\nset group all omega 0 0 0\n"
+                               "velocity two set 0 1e-3 0\nunfix hold\n")),
 }
 
 _PLANE_Z = -0.04
 
 
-def _wall_case(geom, regions, normal, tail, gap, v, w, change="", prep=""):
+def _wall_case(geom, regions, normal, tail, gap, v, w, change="", prep="") -> dict:
     """One sphere at the plane z = _PLANE_Z (a ``zplane`` or a region plane), overlap -gap."""
     z = _PLANE_Z + R + gap
     atoms = f"create_atoms 1 single 0.001 0 {z!r}\n"
