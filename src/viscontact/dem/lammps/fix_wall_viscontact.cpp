@@ -500,8 +500,9 @@ void FixWallViscontact::contact(int i, double *h, const Touch &c, bool update_hi
     wallforce[d] += res.force[d];
   }
   if (heat_on) atom->heatflow[i] += res.heat;
-  if (energy_on) {    // a wall contact counts fully on its atom
-    for (int k = 0; k < viscontact::NDISS; k++) ediss[i][k] += res.dissipated[k];
+  if (energy_on) {    // a wall contact counts fully on its atom; a run's setup is no step
+    if (update_history)
+      for (int k = 0; k < viscontact::NDISS; k++) ediss[i][k] += res.dissipated[k];
     for (int k = 0; k < viscontact::NELASTIC; k++) eel[i][k] += res.elastic[k];
   }
   if (peratom_flag) {    // native's 8 columns; the last contact of the atom wins
@@ -559,7 +560,7 @@ void FixWallViscontact::post_force(int /*vflag*/)
     if (!(mask[i] & groupbit)) continue;
     if (region && !region->match(atom->x[i][0], atom->x[i][1], atom->x[i][2])) {
       // outside: no contact, and no stale history to come back with the atom
-      if (update_history) end_contacts(i, -1);
+      end_contacts(i, -1);
       continue;
     }
     if (!type_ok[atom->type[i]])    // a type without material (e.g. inserted since init)
@@ -571,7 +572,10 @@ void FixWallViscontact::post_force(int /*vflag*/)
     const int nold = static_cast<int>(store[i][0]);
     const double rad = atom->radius[i];
 
-    // each face's history by its wall index
+    // each face's history by its wall index.  A run's setup keeps and drops contacts as a
+    // step does and keeps what it writes (the Coulomb caps), only the history does not
+    // advance: native fix wall/gran marks a contact touching there (a jkr contact stretched
+    // in the first step keeps its attraction) and clears one no longer touching
     int nkept = 0;
     for (const Touch &c : touches) {
       int k = 0;
@@ -580,24 +584,12 @@ void FixWallViscontact::post_force(int /*vflag*/)
       if (!m.touching(c.r * c.r, rad, effective_radius(rad, c.rwall),
                       stored && stored[touch] != 0.0))
         continue;
-      if (!update_history) {
-        // a run's setup: a stored contact is evaluated in place (native: the Coulomb cap may
-        // rewrite it), a new one on a scratch copy; nothing is added or dropped
-        double *h = stored;
-        if (!h) {
-          h = &kept[0];
-          for (int q = 0; q < hsize; q++) h[q] = 0.0;
-        }
-        contact(i, h, c, false, t_now);
-        continue;
-      }
       double *h = &kept[static_cast<size_t>(nkept) * slotsize];
       h[0] = c.iwall;
       for (int q = 0; q < hsize; q++) h[1 + q] = stored ? stored[q] : 0.0;
-      contact(i, h + 1, c, true, t_now);
+      contact(i, h + 1, c, update_history, t_now);
       nkept++;
     }
-    if (!update_history) continue;
     // faces no longer touching: their contacts end (their elastic energy is released into
     // the dissipated columns); a face found again later starts from zero
     end_contacts(i, nkept, wallstyle <= ZPLANE ? vplane : nullptr);
@@ -614,7 +606,7 @@ void FixWallViscontact::post_force(int /*vflag*/)
 void FixWallViscontact::end_contacts(int i, int nkept, const double *vplane)
 {
   const int nold = static_cast<int>(store[i][0]);
-  if (energy_on) {
+  if (energy_on && !update->setupflag) {    // a run's setup is no step: it dissipates nothing
     const viscontact::ContactModel &m = type_model[atom->type[i]];
     viscontact::ContactGeometry now;
     if (vplane) {

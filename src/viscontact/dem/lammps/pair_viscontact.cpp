@@ -228,7 +228,7 @@ void PairViscontact::init_style()
     probe.track_energy = energy_on;
     probe.setup(layout_xi, layout_aprev, layout_roll, layout_twist, layout_t0);
     dnum = probe.history_size();
-    if (dnum > MAX_HISTORY)    // the setup call's scratch copies hold MAX_HISTORY values
+    if (dnum > MAX_HISTORY)    // single()'s copy of a history holds MAX_HISTORY values
       error->all(FLERR, fmt::format("pair viscontact: internal: history of {} values exceeds {}",
                                     dnum, static_cast<int>(MAX_HISTORY)));
     hsign.assign(dnum, 1.0);
@@ -482,7 +482,6 @@ void PairViscontact::compute(int eflag, int vflag)
   int **firstneigh = list->firstneigh;
   vc::ContactGeometry g;
   vc::ContactResult res;
-  double scratch[MAX_HISTORY];
 
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
@@ -510,9 +509,10 @@ void PairViscontact::compute(int eflag, int vflag)
       // apart: r >= r_i + r_j, unless a jkr contact lives on to its pull-off distance
       if (rsq >= radsum * radsum &&
           !(beyond_contact && fl[jj] && m.touching(rsq, radsum, radi * radj / radsum, true))) {
-        // apart (jkr: beyond pull-off): the contact (if any) has ended; a new one starts afresh
-        if (history_update && fl[jj]) {
-          if (tally) {
+        // apart (jkr: beyond pull-off): the contact (if any) has ended, in a run's setup too
+        // (native); a new one starts afresh
+        if (fl[jj]) {
+          if (tally && history_update) {
             // the last forces' second half-work, on this step's velocities
             pair_geometry(i, j, dx, rsq, masses.pair_meff(i, j, rmass, mask), g);
             tally->add_release(i, j, nlocal, newton_pair, m, h, factor_lj, &g);
@@ -524,14 +524,12 @@ void PairViscontact::compute(int eflag, int vflag)
       }
       pair_geometry(i, j, dx, rsq, masses.pair_meff(i, j, rmass, mask), g);
       g.coeffs = &coeffs_of(i, j, itype, jtype, g.meff, g.reff);
-      // a contact not yet stored is evaluated on a fresh copy in a run's setup
-      double *hc = h;
-      if (!fl[jj]) {
-        if (!history_update) hc = scratch;
-        hc[0] = 0.0;
-      }
-      m.evaluate(g, hc, history_update, res);
-      if (history_update) fl[jj] = 1;
+      // a contact begins (its history is initialised) when first found touching, in a run's
+      // setup too, and keeps what setup writes (the Coulomb caps): native pair granular marks
+      // it touching there, so a jkr contact stretched in the first step keeps its attraction
+      if (!fl[jj]) h[0] = 0.0;
+      m.evaluate(g, h, history_update, res);
+      fl[jj] = 1;
       if (factor_lj != 1.0) res.scale(factor_lj);
       if (!std::isfinite(res.fn))
         error->one(FLERR, fmt::format("pair viscontact: the normal force between atoms {} and {} "
@@ -555,7 +553,8 @@ void PairViscontact::compute(int eflag, int vflag)
         torque[j][2] += res.torque_j[2];
         if (heatflow) heatflow[j] -= res.heat;
       }
-      if (tally && history_update) tally->add_pair(i, j, nlocal, newton_pair, res);
+      // (a run's setup: its elastic energies only, the state the run starts from)
+      if (tally) tally->add_pair(i, j, nlocal, newton_pair, res);
       if (evflag) ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, F[0], F[1], F[2], dx[0], dx[1], dx[2]);
     }
   }
