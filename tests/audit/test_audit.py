@@ -227,8 +227,11 @@ def test_engine_versions_pick_the_mapping():
     kr = audit_engine("kratos", None, 0.6)
     assert kr.delivered_e == pytest.approx(cur_e := audit_engine("yade", None, 0.6).delivered_e, abs=1e-15)
     assert abs(cur_e - 0.6) < 1e-4
-    for p in PRESETS.values():  # every preset says which versions, and its wall
-        assert p.versions and p.checked and p.spring
+    for p in PRESETS.values():  # every preset says which versions, whether they were run, its wall
+        ran = p.versions.endswith("run)") and "not run" not in p.versions
+        assert p.checked.startswith("run:" if ran else "source only"), p.key
+        assert "E*" in p.spring and "R*" in p.spring, p.key  # the Hertz spring it uses
+        assert bool(p.wall) == (p.wall_r_factor is not None), p.key  # a wall radius in words
     assert get_preset("yade").wall_r_factor == 0.5 and get_preset("liggghts").wall_r_factor == 1.0
     assert get_preset("kratos").wall_r_factor == 1.0
     with pytest.raises(ValueError, match="no preset for version"):

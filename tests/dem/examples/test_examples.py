@@ -52,7 +52,6 @@ class Case:
         seeds: pour seeds of native's two runs; equiv: the laws compared with native.
         kk_diameter: sphere diameter when one size (KK's equivalence holds), else None;
         kk_frozen: "I J" of a moving and a frozen type (their pair has m* = m_I).
-        defect: a known plugin defect that makes the forces differ (xfail while it shows).
     """
 
     name: str
@@ -62,7 +61,6 @@ class Case:
     equiv: tuple = ("LH",)
     kk_diameter: float | None = None
     kk_frozen: str | None = None
-    defect: str = ""
 
 
 CASES = [
@@ -132,22 +130,15 @@ def _resumed_differences(tmp, case: Case, law: str, bed) -> list:
 
 
 def _assert_forces(case: Case, rows, what: str) -> None:
-    """Every row's force difference within FORCE_TOL; for a case with a known plugin defect,
-    the defect must still show (a difference far above rounding), then the test is xfailed, so
-    that its repair is noticed (remove ``defect`` then)."""
+    """Every row's force difference within FORCE_TOL."""
     worst = max(r[2] for r in rows)
     print(f"{case.name}: {what}: max force/torque difference {worst:.1e} over {len(rows)} "
           f"frames, {min(r[1] for r in rows)} to {max(r[1] for r in rows)} contacts")
-    if case.defect:
-        assert worst > 1e-6, f"{case.name} now equals native: remove its defect note"
-        pytest.xfail(case.defect)
     assert worst <= FORCE_TOL, rows
 
 
 def _check(case: Case, ok: bool, detail) -> None:
-    """A statistical check; for a case with a known plugin defect a failure is an xfail."""
-    if not ok and case.defect:
-        pytest.xfail(f"{case.defect}: {detail}")
+    """A statistical check."""
     assert ok, detail
 
 
