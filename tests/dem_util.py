@@ -221,3 +221,11 @@ def write_sphere_data(path: Path, box: tuple[float, float, float, float, float, 
     lines += [f"{i + 1} {g(v[i, 0])} {g(v[i, 1])} {g(v[i, 2])} {g(omega[i, 0])} {g(omega[i, 1])} "
               f"{g(omega[i, 2])}" for i in range(n)]
     Path(path).write_text("\n".join(lines) + "\n")
+
+
+def plugin_or_skip() -> None:
+    """Skip the calling test (or fixture) with the reason when the plugin cannot be built here."""
+    try:
+        plugin_path()
+    except _plugin.PluginError as exc:  # pragma: no cover - depends on the machine
+        pytest.skip(f"viscontact LAMMPS plugin cannot be built here: {exc}")
