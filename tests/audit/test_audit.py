@@ -20,7 +20,7 @@ from viscontact.audit.engines import ENGINES, PRESETS, audit_engine, get_preset
 from viscontact.physics.pair import ContactPair
 from viscontact.cli import main
 
-PHYS = ContactPair(m_eff=0.1547, r_eff=0.03175, k_hertz=1.688e6, v=1.716)  # SPEC ILB ball
+PHYS = ContactPair(m_eff=0.1547, r_eff=0.03175, k_hertz=1.688e6, v=1.716)  # indoor lacrosse ball
 
 
 # ------------------------------------------------------------------------------ engines
@@ -53,7 +53,8 @@ def test_preset_mapping_roundtrip_and_docs(key):
 
 
 def test_speed_dependent_alpha_of_physical_dashpots():
-    """Fixed physical c: LH alpha ~ T, KK alpha ~ 1/T, and T ~ v^(-1/5) (SPEC section 3)."""
+    """Fixed physical c: LH alpha ~ T, KK alpha ~ 1/T, and T ~ v^(-1/5)
+    (T = (m*^2/(k_Hertz^2 v))^(1/5))."""
     slow = PHYS.at(PHYS.v / 32)
     assert slow.T / PHYS.T == pytest.approx(2.0, rel=1e-12)
     for opt, ratio in (("velocity", 2.0), ("mass_velocity", 2.0), ("viscoelastic", 0.5)):

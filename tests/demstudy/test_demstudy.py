@@ -1,6 +1,7 @@
 """The DEM study (issue 12): the report of ``viscontact dem-study --quick`` (files, tables,
 Haff's law for Ts, every law's kinetic theory, --force rules, the page in a browser) and the
-engine's lines and errors (the bounce sequence: test_bounce.py; concurrent runs: test_jobs.py).  Needs LAMMPS and a C++ compiler (the viscontact plugin is built on first use)."""
+engine's lines and errors (the bounce sequence: test_bounce.py; concurrent runs:
+test_jobs.py).  Needs LAMMPS and a C++ compiler (the viscontact plugin is built on first use)."""
 
 import csv
 import importlib.util
@@ -250,7 +251,8 @@ def test_lammps_error_is_one_line(tmp_path):
 def test_native_stand_in_lines_carry_the_calibrated_damping(model):
     """The native stand-in (VISCONTACT_DEM_BACKEND=native) writes pair_style granular lines
     whose damping equals the law's: Ts alpha = native tsuji's alpha_T(e); KK
-    c0 = alpha m*^(2/5) v^(-1/5) k_H^(3/5) (SPEC 3, p = 1/2) = native eta0 m* sqrt(R*)."""
+    c0 = alpha m*^(2/5) v^(-1/5) k_H^(3/5) (docs/pair_viscontact.md, p = 1/2) = native
+    eta0 m* sqrt(R*)."""
     from viscontact.calibration.inverse import alpha_from_e
     from viscontact.demstudy import engine
 

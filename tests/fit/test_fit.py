@@ -31,7 +31,7 @@ from viscontact.fit.fitting import FIT_LAWS, Weights, fit_global, fit_law, fit_l
 from viscontact.fit.synthetic import example_recording, synthetic_recording, write_recording
 from laws_util import law_kwargs
 
-M, K, V = 0.1547, 1.688e6, 1.716  # the indoor lacrosse ball (SPEC section 7)
+M, K, V = 0.1547, 1.688e6, 1.716  # the indoor lacrosse ball (paper's Table 4)
 
 
 def recording(law, e=0.463, *, rate=50e3, noise=0.01, seed=0, v=V):

@@ -1,7 +1,7 @@
 """The shipped ports of LAMMPS's granular examples (``viscontact/dem/examples``: pour onto a flat
 wall, a rotating drum, a funnel, a mixer, a 2D pour, a frozen bed) next to native ``pair_style
-granular`` on the pinned LAMMPS, through the exact equivalences of SPEC 10.9 (helper module
-``dem_examples``):
+granular`` on the pinned LAMMPS, through the exact equivalences of docs/pair_viscontact.md
+(helper module ``dem_examples``):
 
 - per-atom forces and torques equal native's to 1e-10 (relative to the largest) in the first
   dump frames of each contact-rich phase, while the two runs are still together (after that the

@@ -157,8 +157,8 @@ def test_mixing_as_native(tmp_path, case):
 def test_mixed_mindlin_stiffness_documented_difference(tmp_path):
     """Equal materials given as two types: our mixed 1-2 Mindlin force equals the 1-1 force
     (G* from both materials, as native's documentation states); native's mixed pair builds
-    8G from the mixed E* and is smaller by 1/(2 (1 - nu^2)) (SPEC 10.6: the one deliberate
-    difference).  Normal forces agree with native's."""
+    8G from the mixed E* and is smaller by 1/(2 (1 - nu^2)) (docs/pair_viscontact.md,
+    "Deliberate differences from native", 1).  Normal forces agree with native's."""
     mats = [("1 1", (1e7, NU, 0.05, "force")), ("2 2", (1e7, NU, 0.05, "force"))]
     # one step: the spring is dt v_t in both contacts (the run's setup does not advance it)
     fmt = dict(x2=0.002 - 2e-6, d=0.002, v=0.1, vt=0.2, steps=1)

@@ -25,7 +25,7 @@ from dem_util import (
 pytestmark = needs_lammps
 
 E, NU, RHO = 1.0e7, 0.3, 2500.0
-#: equivalent pair lines (SPEC 10.9): LH c0 = native velocity damping, no friction
+#: equivalent pair lines (docs/pair_viscontact.md): LH c0 = native velocity damping, no friction
 NATIVE_LH = "hertz/material {E} {c0} {nu} damping velocity tangential linear_nohistory 0 0 limit_damping"
 OURS_LH = "hertz/material {E} {nu} damping LH c0 {c0} tangential none"
 
@@ -59,7 +59,7 @@ CUT_CASES = {
              "set type 1 diameter 0.002", ""),
     "bidisperse": ("create_atoms 1 single 0.01 0.01 0.01\ncreate_atoms 2 single 0.03 0.03 0.03\n"
                    "set type 1 diameter 0.002\nset type 2 diameter 0.005", ""),
-    # a frozen R = 0.1 next to a moving R = 0.01 (SPEC 10.7: 0.111 with skin 0.001)
+    # a frozen R = 0.1 next to a moving R = 0.01 (0.111 with skin 0.001: docs/pair_viscontact.md)
     "frozen": ("create_atoms 1 single 0.01 0.01 0.01\ncreate_atoms 2 single 0.03 0.03 0.03\n"
                "set type 1 diameter 0.02\nset type 2 diameter 0.2\ngroup fr type 2",
                "fix fz fr freeze"),
@@ -179,7 +179,7 @@ dump f all custom 20 {out} id fx fy fz
 dump_modify f format float %.17g sort id
 run 400
 """
-#: Ts alpha A == native tsuji with A = alpha_T(e) (SPEC 10.2)
+#: Ts alpha A == native tsuji with A = alpha_T(e) (docs/audit.md)
 E_TSUJI = 0.7
 
 

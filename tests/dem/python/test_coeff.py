@@ -30,7 +30,8 @@ def _words(line: str) -> dict[str, str]:
 ])
 def test_alpha_in_the_line_gives_e_at_vref(law, e, beta, end):
     """The alpha written into the pair_coeff line, read back as LAMMPS reads it, gives the
-    target e at vref through the exact solver; a physical pair at vref (c0 and tau from SPEC 3)
+    target e at vref through the exact solver; a physical pair at vref (c0 and tau from the closed
+    form)
     gives the same e through impact()."""
     dl = dem.contact_law(law, e=e, vref=1.7, beta=beta, end=end)
     lines = dem.coeff_lines(dl, E=2.0e7, nu=0.25, plugin=PLUGIN)
@@ -50,7 +51,7 @@ def test_alpha_in_the_line_gives_e_at_vref(law, e, beta, end):
     assert hit.e == pytest.approx(e, abs=1e-8)
 
 
-def test_physical_coefficients_follow_spec_section_3():
+def test_physical_coefficients_follow_the_closed_form():
     """c0 = alpha m*^((3-2p)/5) vref^((1-4p)/5) k^((2+2p)/5), tau = beta (m*^2/(k^2 vref))^(1/5)."""
     m, k, v = 0.0123, 4.56e5, 0.8
     pair = vc.ContactPair(m_eff=m, k_hertz=k)

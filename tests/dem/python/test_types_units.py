@@ -36,7 +36,8 @@ def test_units_convert_as_lammps_defines_them():
     assert cv(1e7, "pressure", "nano") == pytest.approx(10.0, rel=1e-15)
     assert cv(3e-3, "length", "nano") == pytest.approx(3e6, rel=1e-15)
     assert cv(1e7, "pressure", "lj") == 1e7
-    def c0(a, m, v, k, p):  # SPEC 9: c0 = alpha m*^((3-2p)/5) vref^((1-4p)/5) k^((2+2p)/5)
+    # docs/pair_viscontact.md: c0 = alpha m*^((3-2p)/5) vref^((1-4p)/5) k^((2+2p)/5)
+    def c0(a, m, v, k, p):
         return a * m ** ((3 - 2 * p) / 5) * v ** ((1 - 4 * p) / 5) * k ** ((2 + 2 * p) / 5)
 
     m, k, v, a = 2e-3, 5e5, 0.7, 0.3

@@ -50,7 +50,7 @@ def _cyl_script(wall: str, out: str, steps: int) -> str:
 
 
 def _cyl_laws() -> dict:
-    """(native wall/gran model, our law) pairs that are the same law (SPEC 10.9)."""
+    """(native wall/gran model, our law) pairs that are the same law (docs/pair_viscontact.md)."""
     from viscontact.audit.formulas import tsuji_polynomial
 
     e_ts, c0_lh, damp_kk = 0.7, 0.05, 3000.0
