@@ -58,6 +58,16 @@ def _find() -> tuple[str | None, str | None, str]:
 
 
 LMP, MPIRUN, LMP_REASON = _find()
+#: a pack settling on a native granular floor (frictionless, no history) under gravity, the
+#: spheres integrated with nve/sphere at 5 us (test_pair_history, test_native_submodels)
+SETTLE = """\
+fix floor all wall/gran granular hertz/material 1e7 0.3 0.3 tangential linear_nohistory 0 0 zplane 0.0 NULL
+fix g all gravity 9.81 vector 0 0 -1
+fix 1 all nve/sphere
+neighbor 0.0002 bin
+neigh_modify delay 0 every 1 check yes
+timestep 5e-6
+"""
 #: environment of a negative control: every pair contact forgets its history at each
 #: neighbour-list build (read by the plugin's history fix; not part of the input syntax)
 DROP_HISTORY = {"VISCONTACT_TEST_DROP_HISTORY": "1"}

@@ -13,7 +13,9 @@ import math
 import numpy as np
 import pytest
 
-from dem_util import (assert_ok, error_lines, needs_lammps, plugin_line, read_atoms, run_lmp, sphere_head)
+from dem_util import (
+    assert_ok, error_lines, needs_lammps, plugin_line, read_atoms, run_lmp, sphere_head,
+)
 from viscontact.physics.pair import damping_coefficient
 
 pytestmark = needs_lammps

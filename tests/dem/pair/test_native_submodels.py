@@ -25,7 +25,7 @@ import numpy as np
 import pytest
 
 from dem_util import (
-    MPIRUN, assert_ok, needs_lammps, plugin_line, read_atoms, run_lmp, write_sphere_data,
+    MPIRUN, SETTLE, assert_ok, needs_lammps, plugin_line, read_atoms, run_lmp, write_sphere_data,
 )
 
 pytestmark = needs_lammps
@@ -270,12 +270,7 @@ comm_modify vel yes
 read_data native.data
 pair_style {ps}
 pair_coeff * * {pc}
-fix floor all wall/gran granular hertz/material 1e7 0.3 0.3 tangential linear_nohistory 0 0 zplane 0.0 NULL
-fix g all gravity 9.81 vector 0 0 -1
-fix 1 all nve/sphere
-neighbor 0.0002 bin
-neigh_modify delay 0 every 1 check yes
-timestep 5e-6
+""" + SETTLE + """\
 thermo 50
 thermo_style custom step press pxx pyy pzz pxy pxz pyz
 thermo_modify format float %.17g

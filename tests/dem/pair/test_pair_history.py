@@ -19,7 +19,10 @@ import re
 import numpy as np
 import pytest
 
-from dem_util import (DROP_HISTORY, assert_ok, drifting_pack, needs_lammps, needs_mpirun, plugin_line, rank_head, read_atoms, run_inprocess, run_lmp, sphere_head)
+from dem_util import (
+    DROP_HISTORY, SETTLE, assert_ok, drifting_pack, needs_lammps, needs_mpirun, plugin_line,
+    rank_head, read_atoms, run_inprocess, run_lmp, sphere_head,
+)
 from viscontact.physics.pair import damping_coefficient, time_scale
 
 pytestmark = needs_lammps
@@ -44,16 +47,7 @@ _PACK = _PACK_HEAD + """\
 run {steps}
 write_dump all custom {out} id xu yu zu vx vy vz omegax omegay omegaz modify sort id format float %.17g
 """
-#: the pack settles on a native granular floor under gravity
-_SETTLE = """\
-fix floor all wall/gran granular hertz/material 1e7 0.3 0.3 tangential linear_nohistory 0 0 zplane 0.0 NULL
-fix g all gravity 9.81 vector 0 0 -1
-fix 1 all nve/sphere
-neighbor 0.0002 bin
-neigh_modify delay 0 every 1 check yes
-timestep 5e-6
-"""
-_SETUP = "fix bal all balance 50 1.0 shift x 5 1.02\n" + _SETTLE + "thermo 100"
+_SETUP = "fix bal all balance 50 1.0 shift x 5 1.02\n" + SETTLE + "thermo 100"
 LAWS = {"KK": "KK alpha 0.3 vref 1.0", "Jian": "Jian alpha 0.3 vref 1.0 beta 0.5"}
 
 

@@ -17,7 +17,10 @@ import functools
 import numpy as np
 import pytest
 
-from dem_util import (assert_ok, needs_lammps, needs_mpirun, plugin_line, rank_head, read_atoms, run_lmp, write_sphere_data)
+from dem_util import (
+    assert_ok, needs_lammps, needs_mpirun, plugin_line, rank_head, read_atoms, run_lmp,
+    write_sphere_data,
+)
 
 pytestmark = needs_lammps
 
