@@ -5,7 +5,7 @@
 Prints the largest error found against each reference (closed forms, the undamped Hertz
 contact, the energy balance, a 22-digit mpmath Taylor-series solve, the published e values,
 Jian with beta = 0 against KK, the calibration round trip) and the error against tolerance.
-The references live in tests/references.py and never call viscontact.
+The references live in scripts/references.py and never call viscontact.
 """
 
 from __future__ import annotations

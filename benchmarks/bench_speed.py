@@ -13,7 +13,7 @@ zero-force end:
   event location; ``benchmarks/bench_restitution.py``) on a few hundred of the same
   collisions, in the same run, and the ratio of per-collision throughputs;
 - the largest |e - exact| on a sample that includes alpha and beta down to 1e-9, against an
-  independent high-precision solve (mpmath Taylor series at 22 digits, ``tests/references.py``),
+  independent high-precision solve (mpmath Taylor series at 22 digits, ``scripts/references.py``),
   or the closed forms for Hunt-Crossley (exact relation) and Tsuji;
 - cost against batch size (n/10 and n) and threads (1 and all).
 """

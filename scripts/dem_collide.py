@@ -1,5 +1,5 @@
 """Single collisions inside LAMMPS (pair viscontact, fix viscontact/wall) measured the way an
-experimenter would, for the DEM-versus-exact tests (``tests/test_dem_exact.py``) and the table
+experimenter would, for the DEM-versus-exact tests (``tests/dem/test_exact.py``) and the table
 script (``scripts/dem_exact_table.py``), with the cases both use (at the end of this module).
 
 Many independent collisions share one in-process LAMMPS run (one atom type, one law): equal
@@ -318,7 +318,7 @@ def _impact(model, m_eff, k, v, c, tau, p, end):
     return vc.impact(model, m_eff=m_eff, k_hertz=k, v=v, c=c, tau=tau, p=p, end=end)
 
 
-# ---- the cases of tests/test_dem_exact.py and scripts/dem_exact_table.py ----------------------
+# ---- the cases of tests/dem/test_exact.py and scripts/dem_exact_table.py ----------------------
 MAT = Material(E=1.0e7, nu=0.3, rho=2500.0)    # soft spheres: overlaps of a few % of R
 RADIUS = 0.01
 VREF = 1.0

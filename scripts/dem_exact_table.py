@@ -1,4 +1,4 @@
-"""Print the DEM-versus-exact figures of ``tests/test_dem_exact.py`` (its cases are in
+"""Print the DEM-versus-exact figures of ``tests/dem/test_exact.py`` (its cases are in
 ``scripts/dem_collide.py``): per law, end and geometry
 the largest relative error of e, t_c, F_max at dt = t_c/1000 (3 speeds x 4 phases of the
 contact start) and the smallest convergence order (t_c/50, /100, /200); then Chung & Ooi

@@ -1,6 +1,6 @@
 """Run head-on collisions in real DEM engines (LIGGGHTS, Yade, Kratos DEM) and measure e.
 
-Used by tests/test_engines.py and scripts/engine_runs.py (which refreshes the recorded
+Used by tests/audit/test_engines.py and scripts/engine_runs.py (which refreshes the recorded
 results of tests/data/engine_runs.json).  One engine process runs a whole batch of cases.
 
 Geometries (SI units), all frictionless, no gravity, relative impact speed ``v``:

@@ -3,7 +3,7 @@
     PYTHONPATH=src python3 scripts/engine_runs.py [liggghts] [yade] [kratos] [--table]
 
 Runs each named engine (default: every installed one) on the full plan of
-tests/engine_runs.py (equal spheres, unlike spheres, sphere on a wall; typed e = 0.3, 0.6,
+scripts/engine_harness.py (equal spheres, unlike spheres, sphere on a wall; typed e = 0.3, 0.6,
 0.9 at 0.1, 1, 10 m/s; the audit's advised inputs; undamped peak overlaps), stores the
 results with the engine's version, and prints what differs from the audit (nothing when the
 presets hold).  ``--table``: print the Markdown table of the recorded results (docs/audit.md).
@@ -14,7 +14,7 @@ from __future__ import annotations
 import sys
 import time
 
-import engine_harness as R  # scripts/engine_harness.py, shared with tests/test_engines.py
+import engine_harness as R  # scripts/engine_harness.py, shared with tests/audit/test_engines.py
 
 
 def table() -> str:

@@ -23,7 +23,7 @@ import traceback
 
 import numpy as np
 
-import fuzz_api_targets as F  # scripts/fuzz_api_targets.py, shared with tests/test_fuzz_api.py
+import fuzz_api_targets as F  # shared with tests/physics/test_domain_fuzz.py
 
 
 class _Hang(Exception):

@@ -1,12 +1,12 @@
 """What the API fuzz tests call and how a result is judged (issue 13).
 
-Shared by ``tests/test_fuzz_api.py`` (hypothesis, in the suite) and ``scripts/fuzz_api.py``
-(a bigger campaign with counts).  Each target is a public function with a valid call; a fuzz
-case replaces one or two of its arguments by a value from :data:`VALUES` (subnormal to 1e308,
-NaN, inf, wrong types, odd shapes) or a random float.  The rule: the call either returns a
-valid result (:func:`check_result`: e in [0, 1], t_c > 0 or inf with ``separated=False``, no
-NaN, energy balance closing) or raises ``ValueError`` with a message; never another
-exception, and promptly.
+Shared by ``tests/physics/test_domain_fuzz.py`` (hypothesis, in the suite) and
+``scripts/fuzz_api.py`` (a bigger campaign with counts).  Each target is a public function with
+a valid call; a fuzz case replaces one or two of its arguments by a value from :data:`VALUES`
+(subnormal to 1e308, NaN, inf, wrong types, odd shapes) or a random float.  The rule: the call
+either returns a valid result (:func:`check_result`: e in [0, 1], t_c > 0 or inf with
+``separated=False``, no NaN, energy balance closing) or raises ``ValueError`` with a message;
+never another exception, and promptly.
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 
     python3 scripts/fuzz_cli.py [--n 1500] [--seed 0] [--deadline 30] [--no-table] [--show 20]
 
-Runs every case of ``tests/test_fuzz_cli.py`` (every option of every command with extreme,
+Runs every case of ``tests/cli/test_fuzz_cli.py`` (every option of every command with extreme,
 malformed and conflicting values) and ``--n`` random calls (a quick valid call of a command
 with one to four random changes: an option set to a random value from subnormal to 1e308,
 nan, inf, negative, empty or non-numeric, a flag added, a name misspelt, an output pointed at

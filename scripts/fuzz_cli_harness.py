@@ -1,6 +1,6 @@
 """The harness of the command-line fuzz: the values, the user's files, one guarded call, the
 rules a result must obey and the table of every option of every command (read from the parser
-itself).  Used by tests/test_fuzz_cli.py and scripts/fuzz_cli.py.
+itself).  Used by tests/cli/test_fuzz_cli.py and scripts/fuzz_cli.py.
 """
 
 from __future__ import annotations

@@ -92,9 +92,11 @@ def table_cache(tmp_path_factory):
     tables.clear_memory()
 
 
-def run_cli(*args, cwd=None, timeout=300):
-    """``python -m viscontact ARGS`` with this checkout's package; CompletedProcess."""
-    env = dict(os.environ, PYTHONPATH=SRC + os.pathsep + os.environ.get("PYTHONPATH", ""))
+def run_cli(*args, cwd=None, timeout=300, env=None):
+    """``python -m viscontact ARGS`` with this checkout's package (and the extra environment
+    variables ``env``); CompletedProcess."""
+    env = dict(os.environ, PYTHONPATH=SRC + os.pathsep + os.environ.get("PYTHONPATH", ""),
+               **(env or {}))
     return subprocess.run([sys.executable, "-m", "viscontact", *map(str, args)], cwd=cwd, env=env,
                           capture_output=True, text=True, timeout=timeout)
 

@@ -58,6 +58,16 @@ def _find() -> tuple[str | None, str | None, str]:
 
 
 LMP, MPIRUN, LMP_REASON = _find()
+#: a pack settling on a native granular floor (frictionless, no history) under gravity, the
+#: spheres integrated with nve/sphere at 5 us (test_pair_history, test_native_submodels)
+SETTLE = """\
+fix floor all wall/gran granular hertz/material 1e7 0.3 0.3 tangential linear_nohistory 0 0 zplane 0.0 NULL
+fix g all gravity 9.81 vector 0 0 -1
+fix 1 all nve/sphere
+neighbor 0.0002 bin
+neigh_modify delay 0 every 1 check yes
+timestep 5e-6
+"""
 #: environment of a negative control: every pair contact forgets its history at each
 #: neighbour-list build (read by the plugin's history fix; not part of the input syntax)
 DROP_HISTORY = {"VISCONTACT_TEST_DROP_HISTORY": "1"}
@@ -221,3 +231,11 @@ def write_sphere_data(path: Path, box: tuple[float, float, float, float, float, 
     lines += [f"{i + 1} {g(v[i, 0])} {g(v[i, 1])} {g(v[i, 2])} {g(omega[i, 0])} {g(omega[i, 1])} "
               f"{g(omega[i, 2])}" for i in range(n)]
     Path(path).write_text("\n".join(lines) + "\n")
+
+
+def plugin_or_skip() -> None:
+    """Skip the calling test (or fixture) with the reason when the plugin cannot be built here."""
+    try:
+        plugin_path()
+    except _plugin.PluginError as exc:  # pragma: no cover - depends on the machine
+        pytest.skip(f"viscontact LAMMPS plugin cannot be built here: {exc}")

@@ -7,6 +7,7 @@ import pytest
 
 import viscontact as vc
 from viscontact.physics.kernels import force
+from laws_util import law_kwargs
 from references import (TC_HERTZ, XMAX_HERTZ, hunt_e, taylor_reference, tsuji_force_e,
                         tsuji_overlap_alpha)
 
@@ -15,14 +16,10 @@ ENDS = ("force", "overlap")
 ALPHAS = [1e-9, 1e-4, 0.01, 0.1, 0.3, 0.7, 1.0, 2.0, 4.0, 7.0, 10.0]
 
 
-def _kwargs(model):
-    return {"beta": 0.5} if model == "Jian" else {"p": 0.75} if model == "power" else {}
-
-
 @pytest.mark.parametrize("end", ENDS)
 @pytest.mark.parametrize("model", vc.MODELS)
 def test_undamped_contact_is_hertz(model, end):
-    r = vc.collide(model, 0.0, end=end, **_kwargs(model))
+    r = vc.collide(model, 0.0, end=end, **law_kwargs(model))
     assert r.separated
     assert abs(r.e - 1.0) <= E_TOL
     assert abs(r.tc - TC_HERTZ) <= TC_TOL
@@ -76,8 +73,7 @@ TAYLOR_CASES = [
 def test_against_high_precision_taylor_solution(model, beta, alpha, end):
     p = 0.75 if model == "power" else vc.LAWS[model].p
     ref = taylor_reference(p, alpha, beta, end, t_stop=20.0)
-    kwargs = {"beta": beta} if model == "Jian" else {"p": p} if model == "power" else {}
-    r = vc.collide(model, alpha, end=end, history=False, **kwargs)
+    r = vc.collide(model, alpha, end=end, history=False, **law_kwargs(model, beta, p))
     if ref is None:  # still in contact at t = 20: only the zero-overlap end may do that
         assert end == "overlap"
         assert not r.separated or r.tc > 20
@@ -100,7 +96,7 @@ def test_published_restitution_at_alpha_03(model):
 @pytest.mark.parametrize("model", vc.MODELS)
 @pytest.mark.parametrize("alpha", [0.05, 0.3, 1.5, 6.0])
 def test_energy_balance_closes(model, alpha, end):
-    r = vc.collide(model, alpha, end=end, history=False, **_kwargs(model))
+    r = vc.collide(model, alpha, end=end, history=False, **law_kwargs(model))
     if r.separated:
         assert abs(r.energy_error) <= 1e-8
 
@@ -125,7 +121,7 @@ def test_error_falls_as_tolerance_tightens():
 
 @pytest.mark.parametrize("model", ["LH", "Ts", "Jian"])
 def test_histories_are_consistent(model):
-    r = vc.collide(model, 0.8, **_kwargs(model))
+    r = vc.collide(model, 0.8, **law_kwargs(model))
     assert r.t[0] == 0 and r.t[-1] == pytest.approx(r.tc, abs=1e-12)
     assert np.all(np.diff(r.t) > 0) and np.all(r.x >= 0)
     assert r.v[0] == 1 and r.v[-1] == pytest.approx(-r.e, abs=1e-12)

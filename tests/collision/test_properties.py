@@ -5,6 +5,7 @@ import math
 from hypothesis import given, strategies as st
 
 import viscontact as vc
+from laws_util import law_kwargs
 
 alpha_st = st.floats(0.0, 10.0, allow_nan=False)
 beta_st = st.floats(0.0, 10.0, allow_nan=False)
@@ -13,13 +14,9 @@ law_st = st.sampled_from(["LH", "Ts", "KK", "Li", "Hunt", "Jian", "power"])
 p_st = st.floats(0.0, 3.0, allow_nan=False)
 
 
-def _kw(model, beta, p):
-    return {"beta": beta} if model == "Jian" else {"p": p} if model == "power" else {}
-
-
 @given(law_st, alpha_st, beta_st, p_st, end_st)
 def test_every_call_returns_a_physical_result(model, alpha, beta, p, end):
-    r = vc.collide(model, alpha, end=end, history=False, **_kw(model, beta, p))
+    r = vc.collide(model, alpha, end=end, history=False, **law_kwargs(model, beta, p))
     assert 0.0 <= r.e <= 1.0 + 1e-12
     if r.separated:
         assert math.isfinite(r.tc) and r.tc > 0
@@ -31,7 +28,7 @@ def test_every_call_returns_a_physical_result(model, alpha, beta, p, end):
 @given(law_st, alpha_st, alpha_st, beta_st, p_st, end_st)
 def test_e_never_rises_with_alpha(model, a1, a2, beta, p, end):
     lo, hi = sorted((a1, a2))
-    kw = _kw(model, beta, p)
+    kw = law_kwargs(model, beta, p)
     assert vc.restitution(model, hi, end=end, **kw) <= vc.restitution(model, lo, end=end, **kw) + 1e-9
 
 

@@ -1,4 +1,4 @@
-"""Velocity sweeps with physical constants held fixed (SPEC section 3, last note)."""
+"""Velocity sweeps with physical constants held fixed (docs/reproduce.md, "Velocity sweeps")."""
 
 import csv
 import io

@@ -8,15 +8,15 @@ Every collision is set up as a user would: ``viscontact.dem.contact_law`` and
 1. Every law, clamp on (``end force``) and off (``end overlap``), two equal spheres head-on and
    a sphere on a wall, three speeds (0.5, 1, 2 x vref): DEM e, t_c, F_max against
    ``viscontact.impact`` with the same m*, k_Hertz, c0, tau (computed in Python from the law's
-   FORM, SPEC section 3) within 1e-3 relative at dt = t_c / 1000 (t_c the exact contact time),
-   at four phases of the contact start on the step grid; and the order of convergence,
+   closed form, docs/pair_viscontact.md) within 1e-3 relative at dt = t_c / 1000 (t_c the
+   exact contact time), at four phases of the contact start on the step grid; and the order of convergence,
    regression of log|error| on log dt over dt = t_c/50, t_c/100, t_c/200, at least 0.9 (the
    scheme is first order: LAMMPS's velocity Verlet evaluates the damping force with the
    half-step velocity).  For the order the start and the exact end of the contact fall at
    mid-step at every dt: a law whose force jumps where the contact begins or ends (LH; Ts
    steeply) has an O(dt) error that depends on those phases, which would otherwise scatter the
    regression (its size at dt = t_c/1000 is covered by the four phases of test 1).
-2. Chung & Ooi (2011) tests 1-4 (SPEC section 9).
+2. Chung & Ooi (2011) tests 1-4 (Y.C. Chung and J.Y. Ooi, Granular Matter 13 (2011) 643).
 """
 
 from __future__ import annotations
@@ -79,7 +79,7 @@ def test_dem_converges_at_least_linearly(name, end):
         f"{name} end {end}: orders (shot x e, t_c, F_max) =\n{np.round(order, 2)}")
 
 
-# ---- Chung & Ooi (2011), SPEC section 9 --------------------------------------------------------
+# ---- Chung & Ooi (2011), Granular Matter 13, 643 ----------------------------------------------
 
 
 def hertz_errors(setup: dc.Setup) -> np.ndarray:

@@ -29,13 +29,13 @@ from viscontact.calibration.inverse import alpha_from_e
 from viscontact.fit import Recording, RecordingError, measure, read_recording
 from viscontact.fit.fitting import FIT_LAWS, Weights, fit_global, fit_law, fit_laws
 from viscontact.fit.synthetic import example_recording, synthetic_recording, write_recording
+from laws_util import law_kwargs
 
-M, K, V = 0.1547, 1.688e6, 1.716  # the indoor lacrosse ball (SPEC section 7)
-EXTRA = {"Jian": {"beta": 0.5}, "power": {"p": 0.8}}
+M, K, V = 0.1547, 1.688e6, 1.716  # the indoor lacrosse ball (paper's Table 4)
 
 
 def recording(law, e=0.463, *, rate=50e3, noise=0.01, seed=0, v=V):
-    kw = EXTRA.get(law, {})
+    kw = law_kwargs(law, p=0.8)
     alpha = float(alpha_from_e(law, e, **kw))
     syn = synthetic_recording(law, alpha, m_eff=M, k_hertz=K, v=v, rate=rate, noise=noise,
                               offset=2.5, seed=seed, **kw)

@@ -1,4 +1,5 @@
-"""The lacrosse-ball data file and the study's calibration workflow (SPEC section 7)."""
+"""The lacrosse-ball data file and the study's calibration workflow
+(docs/reproduce.md, "The drop tests" and "Calibrating a particle in physical units")."""
 
 import json
 

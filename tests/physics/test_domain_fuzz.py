@@ -20,6 +20,7 @@ from viscontact.physics import domain
 from viscontact import fit
 
 import fuzz_api_targets as F
+from laws_util import law_kwargs
 
 _SETTINGS = dict(deadline=timedelta(seconds=60), derandomize=True,
                  suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
@@ -85,14 +86,10 @@ beta_st = st.one_of(st.floats(0.0, domain.BETA_MAX), st.floats(-9.0, 3.0).map(la
 p_st = st.one_of(st.floats(0.0, domain.P_MAX), st.sampled_from([0.0, 1.5, domain.P_MAX]))
 
 
-def _kw(model, beta, p):
-    return {"beta": beta} if model == "Jian" else {"p": p} if model == "power" else {}
-
-
 @settings(max_examples=120, **_SETTINGS)
 @given(law_st, alpha_st, beta_st, p_st, st.sampled_from(vc.END_CRITERIA))
 def test_batch_and_reference_agree_over_the_whole_domain(model, alpha, beta, p, end):
-    kw = _kw(model, beta, p)
+    kw = law_kwargs(model, beta, p)
     ref = vc.collide(model, alpha, end=end, **kw)
     bat = vc.collide(model, alpha, end=end, history=False, **kw)
     for r in (ref, bat):
@@ -115,7 +112,7 @@ def test_batch_and_reference_agree_over_the_whole_domain(model, alpha, beta, p, 
 @given(law_st, st.lists(alpha_st, min_size=1, max_size=20), beta_st, p_st,
        st.sampled_from(vc.END_CRITERIA))
 def test_restitution_in_unit_interval(model, alphas, beta, p, end):
-    e = vc.restitution(model, alphas, end=end, **_kw(model, beta, p))
+    e = vc.restitution(model, alphas, end=end, **law_kwargs(model, beta, p))
     assert np.all((e >= 0.0) & (e <= 1.0))
 
 
@@ -160,7 +157,7 @@ def test_hunt_force_end_is_the_overlap_end():
 @pytest.mark.parametrize("model,alpha", [("Ts", 1000.0), ("KK", 1000.0), ("LH", 500.0),
                                          ("Jian", 1000.0)])
 def test_heavily_damped_zero_overlap_end_answers(model, alpha):
-    r = vc.collide(model, alpha, end="overlap", **_kw(model, 0.5, None))
+    r = vc.collide(model, alpha, end="overlap", **law_kwargs(model, 0.5, None))
     assert not r.separated and r.e == 0.0 and math.isinf(r.tc)
     assert r.t.size and r.t[-1] <= vc.T_MAX
 

@@ -1,12 +1,18 @@
 import pytest
 
 import viscontact as vc
-from viscontact.physics.laws import LAWS, resolve, substitution_order
+from viscontact.physics import laws as laws_mod
+from viscontact.physics.laws import LAWS, ContactLaw, resolve, substitution_order
 
 
 def test_registry_lists_every_law_once():
     assert vc.MODELS == ("LH", "Ts", "KK", "Li", "Hunt", "Jian", "power")
-    assert set(LAWS) == set(vc.MODELS)
+    # every law class the module defines is registered (the registry is a hand-written list)
+    defined = sorted(c.name for c in vars(laws_mod).values()
+                     if isinstance(c, type) and issubclass(c, ContactLaw) and c is not ContactLaw)
+    assert defined == sorted(vc.MODELS)
+    # names are looked up case-insensitively: no two may differ only in case
+    assert len({n.lower() for n in vc.MODELS}) == len(vc.MODELS)
 
 
 @pytest.mark.parametrize("name", vc.MODELS)

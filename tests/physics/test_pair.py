@@ -1,4 +1,5 @@
-"""Physical units: effective properties, T, the alpha <-> c map, impact() in SI (SPEC 1-3)."""
+"""Physical units: effective properties, T, the alpha <-> c map, impact() in SI
+(docs/reproduce.md, "Calibrating a particle in physical units")."""
 
 import math
 
@@ -7,9 +8,9 @@ import pytest
 import viscontact as vc
 from viscontact.physics.pair import contact_pair, damping_unit
 
-# the indoor lacrosse ball (SPEC section 7)
+# the indoor lacrosse ball (the paper's Table 4, docs/reproduce.md)
 M, K, V = 0.1547, 1.688e6, 1.716
-T_UNDAMPED = 3.2180654597  # Hertz contact time / T (SPEC section 2)
+T_UNDAMPED = 3.2180654597  # Hertz contact time / T of the undamped contact
 X_MAX = 1.0933620739  # Hertz maximum overlap / (T v)
 
 

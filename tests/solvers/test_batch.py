@@ -14,17 +14,16 @@ from viscontact.solvers import SOLVERS
 from viscontact.solvers.batch import BATCH_RTOL, solve_batch
 from viscontact.solvers.reference import solve_reference
 from references import TC_HERTZ, hunt_e, taylor_reference, tsuji_force_e, tsuji_overlap_alpha
+from laws_util import law_kwargs
 
 E_TOL, TC_TOL = 1e-8, 1e-7  # the contract
 TIGHT_RTOL, TIGHT_E_TOL = 1e-13, 5e-12  # what the interpolation-table builder relies on
 ENDS = ("force", "overlap")
 ALPHAS = np.array([0.0, 1e-9, 1e-6, 1e-3, 0.05, 0.3, 1.0, 2.0, 4.0, 7.0, 10.0])
-LAW_KW = {"LH": {}, "Ts": {}, "KK": {}, "Li": {}, "Hunt": {}, "Jian": {"beta": 0.5},
-          "power": {"p": 0.75}}
 
 
 def _lp(model, beta=None):
-    kw = dict(LAW_KW[model])
+    kw = law_kwargs(model)
     if beta is not None:
         kw["beta"] = beta
     return resolve(model, **kw)
@@ -106,7 +105,7 @@ def test_agrees_with_reference_solver_on_a_grid(model, end):
 @given(st.sampled_from(list(vc.MODELS)), st.floats(0.0, 10.0), st.floats(0.0, 10.0),
        st.floats(0.0, 3.0), st.sampled_from(ENDS))
 def test_property_batch_matches_reference(model, alpha, beta, p, end):
-    lp = resolve(model, beta=beta if model == "Jian" else None, p=p if model == "power" else None)
+    lp = resolve(model, **law_kwargs(model, beta, p))
     r = solve_batch(lp, [alpha], end)
     ref = solve_reference(lp, alpha, end, detail=False)
     assert bool(r.separated[0]) == ref.separated

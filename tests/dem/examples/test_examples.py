@@ -1,7 +1,7 @@
 """The shipped ports of LAMMPS's granular examples (``viscontact/dem/examples``: pour onto a flat
 wall, a rotating drum, a funnel, a mixer, a 2D pour, a frozen bed) next to native ``pair_style
-granular`` on the pinned LAMMPS, through the exact equivalences of SPEC 10.9 (helper module
-``dem_examples``):
+granular`` on the pinned LAMMPS, through the exact equivalences of docs/pair_viscontact.md
+(helper module ``dem_examples``):
 
 - per-atom forces and torques equal native's to 1e-10 (relative to the largest) in the first
   dump frames of each contact-rich phase, while the two runs are still together (after that the
@@ -53,7 +53,6 @@ class Case:
         seeds: pour seeds of native's two runs; equiv: the laws compared with native.
         kk_diameter: sphere diameter when one size (KK's equivalence holds), else None;
         kk_frozen: "I J" of a moving and a frozen type (their pair has m* = m_I).
-        defect: a known plugin defect that makes the forces differ (xfail while it shows).
     """
 
     name: str
@@ -63,7 +62,6 @@ class Case:
     equiv: tuple = ("LH",)
     kk_diameter: float | None = None
     kk_frozen: str | None = None
-    defect: str = ""
 
 
 #: the test sizes pour in few, dense batches (-var vol) to fill within a short fill phase: the
@@ -136,22 +134,15 @@ def _resumed_differences(tmp, case: Case, law: str, bed) -> list:
 
 
 def _assert_forces(case: Case, rows, what: str) -> None:
-    """Every row's force difference within FORCE_TOL; for a case with a known plugin defect,
-    the defect must still show (a difference far above rounding), then the test is xfailed, so
-    that its repair is noticed (remove ``defect`` then)."""
+    """Every row's force difference within FORCE_TOL."""
     worst = max(r[2] for r in rows)
     print(f"{case.name}: {what}: max force/torque difference {worst:.1e} over {len(rows)} "
           f"frames, {min(r[1] for r in rows)} to {max(r[1] for r in rows)} contacts")
-    if case.defect:
-        assert worst > 1e-6, f"{case.name} now equals native: remove its defect note"
-        pytest.xfail(case.defect)
     assert worst <= FORCE_TOL, rows
 
 
 def _check(case: Case, ok: bool, detail) -> None:
-    """A statistical check; for a case with a known plugin defect a failure is an xfail."""
-    if not ok and case.defect:
-        pytest.xfail(f"{case.defect}: {detail}")
+    """A statistical check."""
     assert ok, detail
 
 

@@ -95,8 +95,8 @@ def test_relaxation_factor(lib):
 
 @pytest.mark.parametrize("law", LAWS)
 def test_contact_coefficients_from_alpha(lib, law):
-    """c0 = alpha m*^((3-2p)/5) vref^((1-4p)/5) k^((2+2p)/5), tau = beta T_ref (SPEC section 3),
-    per contact, against viscontact.physics.pair."""
+    """c0 = alpha m*^((3-2p)/5) vref^((1-4p)/5) k^((2+2p)/5), tau = beta T_ref
+    (docs/pair_viscontact.md), per contact, against viscontact.physics.pair."""
     p = {"LH": 0.0, "Ts": 0.25, "KK": 0.5, "Li": 1.0, "Hunt": 1.5, "Jian": 0.5, "power": 0.8}[law]
     estar, meff, reff, vref, alpha, beta = 3.1e8, 2.7e-3, 4.5e-3, 1.7, 0.37, 0.6
     out = np.empty(3)

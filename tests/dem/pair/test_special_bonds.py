@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from dem_util import assert_ok, needs_lammps, plugin_line, read_atoms, run_lmp
-from test_submodels_native import CASES
+from test_native_submodels import CASES
 
 pytestmark = needs_lammps
 

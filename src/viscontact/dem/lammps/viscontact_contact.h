@@ -42,7 +42,7 @@ enum class Law { LH, Ts, KK, Li, Hunt, Jian, Power };
 /// One row of the law table: what viscontact.laws says of each law (name as users write it,
 /// damping exponent p (-1: the user gives p), whether it takes a relaxation time beta/tau, and
 /// the per-contact memory a DEM engine must keep).  The ONLY place a law is named in C++;
-/// tests/test_dem_contact_laws.py checks it against the Python registry.
+/// tests/dem/pair/test_law_table.py checks it against the Python registry.
 struct LawInfo {
   Law law;
   const char *name;

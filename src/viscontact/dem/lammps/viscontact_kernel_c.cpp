@@ -1,5 +1,6 @@
-/* extern "C" entry points to viscontact_contact.h for the ctypes tests (tests/test_dem_kernel.py).
-   Built by viscontact.dem.plugin.kernel_library_path() into a tiny library of its own: no LAMMPS. */
+/* extern "C" entry points to viscontact_contact.h for the ctypes tests
+   (tests/dem/pair/test_cpp_kernel.py).  Built by viscontact.dem.plugin.kernel_library_path()
+   into a tiny library of its own: no LAMMPS. */
 #include "viscontact_contact.h"
 #include "viscontact_model.h"
 

