@@ -443,6 +443,7 @@ const vc::ContactCoeffs &PairViscontact::coeffs_of(int i, int j, int itype, int 
     e.meff = meff;
     e.reff = reff;
   }
+  vc::relaxation_step(e.cc, update->dt);
   return e.cc;
 }
 
