@@ -139,34 +139,37 @@ def full_cases() -> list[tuple[str, str, list[str]]]:
 DRUM_R, DRUM_G, G = 0.2, 10.0, 9.81
 
 
-def drum_lines(n_layers: int) -> list[str]:
-    """The turning drum's spheres and region ``drum`` (deterministic: the same on any number
-    of ranks); the contact lines and the wall fix follow (:func:`drum_cases`)."""
+def drum_lines(n_layers: int, data: Path) -> list[str]:
+    """The turning drum: its spheres (written to ``data`` once, read by every case, the same on
+    any number of ranks) and region ``drum``; the contact lines and the wall fix follow
+    (:func:`drum_cases`)."""
     omega = math.sqrt(DRUM_G * G / DRUM_R)
     r_ring = DRUM_R - 0.5 * D * (1.0 - 1e-3)  # touching the mantle (an overlap of 5e-4 d)
     per_ring = int(2.0 * math.pi * r_ring / (1.2 * D))
     length = 1.2 * D * n_layers
-    lines = ["units si", "atom_style sphere", "atom_modify map array", "boundary f f p",
-             "comm_modify vel yes",
-             f"region box block {-1.05 * DRUM_R!r} {1.05 * DRUM_R!r} {-1.05 * DRUM_R!r} "
-             f"{1.05 * DRUM_R!r} 0 {length!r}", "create_box 1 box"]
-    for k in range(n_layers):
-        z = 1.2 * D * (k + 0.5)
-        for j in range(per_ring):
-            phi = 2.0 * math.pi * (j + 0.5 * (k % 2)) / per_ring
-            lines.append(f"create_atoms 1 single {r_ring * math.cos(phi)!r} "
-                         f"{r_ring * math.sin(phi)!r} {z!r}")
-    lines += [f"set type 1 diameter {D!r}", f"set type 1 density {RHO!r}",
-              # the rigid rotation of the wall, then gravity across the axis
-              f"variable vx atom {-omega!r}*y", f"variable vy atom {omega!r}*x",
-              "velocity all set v_vx v_vy 0.0", "variable theta equal "
-              f"{omega!r}*dt*elapsed",
-              f"region drum cylinder z 0 0 {DRUM_R!r} -1 {length + 1!r} side in open 1 open 2 "
-              "rotate v_theta 0 0 0 0 0 1",
-              f"fix gravity all gravity {G!r} vector 0 -1 0",
-              f"neighbor {0.1 * D!r} bin", "neigh_modify delay 0 every 1 check yes",
-              "fix move all nve/sphere", "timestep 1e-5", "thermo 0"]
-    return lines
+    half = 1.05 * DRUM_R
+    if not data.exists():
+        rows = []
+        for k in range(n_layers):
+            z = 1.2 * D * (k + 0.5)
+            for j in range(per_ring):
+                phi = 2.0 * math.pi * (j + 0.5 * (k % 2)) / per_ring
+                x, y = r_ring * math.cos(phi), r_ring * math.sin(phi)
+                # atom_style sphere: id type diameter density x y z
+                rows.append(f"{len(rows) + 1} 1 {D!r} {RHO!r} {x!r} {y!r} {z!r}")
+        data.write_text(f"turning drum\n\n{len(rows)} atoms\n1 atom types\n\n"
+                        f"{-half!r} {half!r} xlo xhi\n{-half!r} {half!r} ylo yhi\n"
+                        f"0 {length!r} zlo zhi\n\nAtoms # sphere\n\n" + "\n".join(rows) + "\n")
+    return ["units si", "atom_style sphere", "atom_modify map array", "boundary f f p",
+            "comm_modify vel yes", f"read_data {data}",
+            # the rigid rotation of the wall, then gravity across the axis
+            f"variable vx atom {-omega!r}*y", f"variable vy atom {omega!r}*x",
+            "velocity all set v_vx v_vy 0.0", f"variable theta equal {omega!r}*dt*elapsed",
+            f"region drum cylinder z 0 0 {DRUM_R!r} -1 {length + 1!r} side in open 1 open 2 "
+            "rotate v_theta 0 0 0 0 0 1",
+            f"fix gravity all gravity {G!r} vector 0 -1 0",
+            f"neighbor {0.1 * D!r} bin", "neigh_modify delay 0 every 1 check yes",
+            "fix move all nve/sphere", "timestep 1e-5", "thermo 0"]
 
 
 def drum_cases() -> list[tuple[str, str, list[str]]]:
@@ -193,7 +196,8 @@ def write_input(path: Path, kind: str, n_side: int, warm: int, steps: int, repea
     body = []
     for rep in range(repeat):
         for label, _law, pair_lines in todo:
-            head = drum_lines(n_side) if kind == "drum" else packing_lines(kind, n_side)
+            head = (drum_lines(n_side, path.with_name(f"drum{n_side}.data")) if kind == "drum"
+                    else packing_lines(kind, n_side))
             body += [f"# case: {label}, repeat {rep + 1}", "clear", *head,
                      *pair_lines, f"run {warm}", f"run {steps}"]
     path.write_text("\n".join(body) + "\n")
