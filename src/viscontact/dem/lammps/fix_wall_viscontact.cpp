@@ -571,7 +571,10 @@ void FixWallViscontact::post_force(int /*vflag*/)
   const int touch = model.history_slots().touch;
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
-    if (region && !region->match(atom->x[i][0], atom->x[i][1], atom->x[i][2])) {
+    // (a region with an open face matches every point: Region::match() would only transform
+    // it, which for a moving region costs a sine and a cosine per atom and step)
+    if (region && !region->openflag &&
+        !region->match(atom->x[i][0], atom->x[i][1], atom->x[i][2])) {
       // outside: no contact, and no stale history to come back with the atom
       if (update_history && nstored[i] != 0) {
         for (int k = 0; k < tmax; k++) goes_on[k] = 0;
