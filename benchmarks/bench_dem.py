@@ -1,7 +1,7 @@
 """The LAMMPS plugin's cost per particle-step for every law against native ``pair_style granular``.
 
-    python3 benchmarks/bench_dem.py [--quick] [--ranks 1 2] [--packings loose dense drum] [--steps N]
-                                    [--repeat R] [--laws LH Ts ...] [--full | --only-full]
+    python3 benchmarks/bench_dem.py [--quick] [--ranks 1 2] [--packings loose dense drum]
+                                    [--steps N] [--repeat R] [--laws LH Ts ...] [--full | --only-full]
 
 Two packings of about 10^4 equal spheres (d = 1 cm, rho = 2500 kg/m^3, E = 10 MPa, nu = 0.3,
 Mindlin friction mu = 0.5), fully periodic, no gravity, no walls (the pair style is what is

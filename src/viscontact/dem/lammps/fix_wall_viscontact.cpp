@@ -629,7 +629,8 @@ void FixWallViscontact::post_force(int /*vflag*/)
     // faces no longer touching: their contacts end (their elastic energy is released into
     // the dissipated columns); those that go on move up over them; a face found again later
     // starts from zero
-    const int nkept = ngoing == nold ? nold : end_contacts(i, wallstyle <= ZPLANE ? vplane : nullptr);
+    const int nkept =
+        ngoing == nold ? nold : end_contacts(i, wallstyle <= ZPLANE ? vplane : nullptr);
     int n = nkept;
     for (int q = 0; q < nfresh; q++, n++) {
       const Touch &c = touches[fresh[q]];
