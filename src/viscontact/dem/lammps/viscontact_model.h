@@ -253,12 +253,6 @@ class ContactModel {
     int n = 1;
     slots = HistorySlots();
     if (LAW_TABLE[static_cast<int>(law.law)].needs_beta || force_t0) slots.relax = n++;
-    if (has_tangential_history() || force_xi) { slots.xi = n; n += 3; }
-    if (needs_aprev() || force_aprev) slots.a_prev = n++;
-    if (rolling.kind == RollingKind::SDS || force_roll) { slots.roll = n; n += 3; }
-    if (twisting.kind != TwistingKind::None || force_twist) slots.twist = n++;
-    // the energy count's slots last: the forces' own history stays in the first cache line
-    // of a contact's record, whether the count is on or not
     if (track_energy) {
       slots.energy = n++;
       slots.elastic = n;
@@ -266,6 +260,10 @@ class ContactModel {
       slots.damp = n;
       n += NDAMP;
     }
+    if (has_tangential_history() || force_xi) { slots.xi = n; n += 3; }
+    if (needs_aprev() || force_aprev) slots.a_prev = n++;
+    if (rolling.kind == RollingKind::SDS || force_roll) { slots.roll = n; n += 3; }
+    if (twisting.kind != TwistingKind::None || force_twist) slots.twist = n++;
     slots.size = n;
   }
   int history_size() const { return slots.size; }
@@ -472,7 +470,8 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
   double grel = 1.0;
   if (slots.relax >= 0 && cc.tau > 0.0) {
     if (fresh) {
-      h[slots.relax] = relaxation(g.t_now - contact_start_time(g.t_now, dt, delta, ddelta), cc.tau);
+      const double t0 = contact_start_time(g.t_now, dt, delta, ddelta);
+      h[slots.relax] = relaxation(g.t_now - t0, cc.tau);
     } else if (advance) {
       if (!g.coeffs) relaxation_step(cc, dt);
       h[slots.relax] = h[slots.relax] * cc.decay + cc.rise;
