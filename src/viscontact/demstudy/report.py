@@ -62,7 +62,7 @@ def run_all(cfg: StudyConfig, work: Path, np_: int, step, jobs: int = 1) -> Resu
     return res
 
 
-def _write_all(res: Results, tmp: Path, work: Path, step) -> list[str]:
+def _write_all(res: Results, tmp: Path, work: Path, step, jobs: int = 1) -> list[str]:
     from .._version import __version__
     from .engine import backend, input_path
     from .figures import write_figures
@@ -70,7 +70,7 @@ def _write_all(res: Results, tmp: Path, work: Path, step) -> list[str]:
     step("tables (CSV and Markdown)")
     tables = all_tables(res)
     write_tables(tables, tmp)
-    write_figures(res, tmp, tick=step)
+    write_figures(res, tmp, tick=step, jobs=jobs)
     for name in INPUTS:
         shutil.copyfile(input_path(name), tmp / name)
     g, f = res.gas, res.flow
@@ -123,7 +123,8 @@ def dem_study(out: str | os.PathLike = DEFAULT_OUT, *, quick: bool = False, np_:
     try:
         return build_report(out, "dem-study", force=force, expected=report_files(cfg),
                             compute=compute,
-                            write=lambda res, staging, step: _write_all(res, staging, work, step),
+                            write=lambda res, staging, step: _write_all(res, staging, work, step,
+                                                                        jobs),
                             progress=progress)
     finally:
         shutil.rmtree(work, ignore_errors=True)

@@ -214,12 +214,10 @@ dump_modify d thresh z < {d:.17g} format float %.17g
 run {steps}
 """
 
-def test_jian_clock_restarts_on_recontact(tmp_path):
-    """A sphere falls on a fixed one, bounces off and lands again.  At every step of both
-    contacts the force is k delta^1.5 + c0 (1 - exp(-t_c/tau)) delta^0.5 delta' with t_c the
-    time since *that* contact began (t0 = first step in contact minus delta/delta', at most
-    one step back: viscontact_contact.h contact_start_time), to 1e-9 of the peak force; a clock
-    that kept running from the first contact would be wrong by orders of magnitude more."""
+
+def _jian_bounce(tmp_path, runs: str):
+    """The falling sphere of the Jian tests, LAMMPS ``runs`` (its run and timestep commands):
+    (k, c0, tau, frames in contact: step, mass, z, vz, fz arrays; the first frame of a step)."""
     mass = 4.0 / 3.0 * math.pi * R**3 * RHO
     meff, reff = mass / 2, R / 2
     estar = 1.0 / (2 * (1 - NU**2) / E)
@@ -227,16 +225,36 @@ def test_jian_clock_restarts_on_recontact(tmp_path):
     v1 = math.sqrt(2 * G * GAP)
     c0 = damping_coefficient("Jian", 0.4, m_eff=meff, k_hertz=k, v=v1)
     tau = 0.5 * time_scale(meff, k, v1)
-    steps = 22000
-    proc = run_lmp(_BOUNCE.format(plugin=plugin_line(), z0=2 * R + GAP, d=2 * R, rho=RHO, E=E,
-                                  nu=NU, c0=c0, tau=tau, g=G, dt=DT, steps=steps), tmp_path)
+    script = _BOUNCE.format(plugin=plugin_line(), z0=2 * R + GAP, d=2 * R, rho=RHO, E=E, nu=NU,
+                            c0=c0, tau=tau, g=G, dt=DT, steps=0).replace("run 0\n", runs)
+    proc = run_lmp(script, tmp_path)
     assert_ok(proc)
     from viscontact import dem
 
-    frames = [f for f in dem.read_dump(tmp_path / "contact.dump") if f.natoms]  # in contact
-    step = np.array([f.step for f in frames])
-    m = np.array([f["mass"][0] for f in frames])
-    z, vz, fz = (np.array([f[c][0] for f in frames]) for c in ("z", "vz", "fz"))
+    frames, seen = [], set()
+    for f in dem.read_dump(tmp_path / "contact.dump"):
+        # in contact; a second run's setup dumps its first step again (full-step velocities)
+        if f.natoms and f.step not in seen:
+            seen.add(f.step)
+            frames.append(f)
+    cols = (np.array([f.step for f in frames]),) + tuple(
+        np.array([f[c][0] for f in frames]) for c in ("mass", "z", "vz", "fz"))
+    return k, c0, tau, cols
+
+
+def _jian_force(k, c0, tau, delta, ddelta, tc):
+    """Jian's normal force with the clamp (end force) at contact time tc."""
+    f = k * (delta * np.sqrt(delta)) + c0 * (-np.expm1(-tc / tau)) * np.sqrt(delta) * ddelta
+    return np.maximum(f, 0.0)
+
+
+def test_jian_clock_restarts_on_recontact(tmp_path):
+    """A sphere falls on a fixed one, bounces off and lands again.  At every step of both
+    contacts the force is k delta^1.5 + c0 (1 - exp(-t_c/tau)) delta^0.5 delta' with t_c the
+    time since *that* contact began (t0 = first step in contact minus delta/delta', at most
+    one step back: viscontact_contact.h contact_start_time), to 1e-9 of the peak force; a clock
+    that kept running from the first contact would be wrong by orders of magnitude more."""
+    k, c0, tau, (step, m, z, vz, fz) = _jian_bounce(tmp_path, "run 22000\n")
     starts = np.flatnonzero(np.diff(step, prepend=-10) != 1)
     assert len(starts) >= 2, f"expected two contacts, got {len(starts)}"
     fcontact = fz + m * G  # the dump's force includes gravity
@@ -246,9 +264,7 @@ def test_jian_clock_restarts_on_recontact(tmp_path):
     peak = np.abs(fcontact).max()
 
     def expected(t0):
-        tc = step * DT - t0
-        f = k * (delta * np.sqrt(delta)) + c0 * (-np.expm1(-tc / tau)) * np.sqrt(delta) * ddelta
-        return np.maximum(f, 0.0)  # end force: the clamp
+        return _jian_force(k, c0, tau, delta, ddelta, step * DT - t0)
 
     t0s = []
     for s in starts[:2]:
@@ -261,6 +277,31 @@ def test_jian_clock_restarts_on_recontact(tmp_path):
     # the clock of the second contact is not the first one's
     s, e = starts[1], ends[1]
     wrong = np.abs(fcontact[s:e] - expected(t0s[0])[s:e]).max()
+    assert wrong > 1e-4 * peak, wrong / peak
+
+
+def test_jian_clock_across_a_change_of_time_step(tmp_path):
+    """The time step drops to a third in the middle of the first contact (``timestep`` between
+    two runs).  Each step advances the stored relaxation g by exp(-dt/tau) of its own dt, so
+    that at every step of the contact g = 1 - exp(-t_c/tau) with t_c the simulated time since
+    the contact began, to 1e-9 of the peak force as without the change; a clock that counted
+    the later steps at the old dt would be wrong by far more."""
+    n1, dt2 = 6700, DT / 3  # the sphere lands at about step 6320; the contact lasts ~1300 steps
+    k, c0, tau, (step, m, z, vz, fz) = _jian_bounce(
+        tmp_path, f"run {n1}\ntimestep {dt2!r}\nrun 6000\n")
+    first = np.flatnonzero(np.diff(step, prepend=-10) != 1)
+    s, e = first[0], (first[1] if len(first) > 1 else len(step))
+    assert step[s] < n1 < step[e - 1], "the change must fall inside the first contact"
+    dt = np.where(step <= n1, DT, dt2)  # the step that led to each frame
+    t = np.where(step <= n1, step * DT, n1 * DT + (step - n1) * dt2)
+    fcontact = fz + m * G
+    vhalf = vz - 0.5 * dt * fz / m
+    delta, ddelta = 2 * R - z, -vhalf
+    peak = np.abs(fcontact[s:e]).max()
+    t0 = t[s] - min(delta[s] / ddelta[s], DT)
+    err = np.abs(fcontact - _jian_force(k, c0, tau, delta, ddelta, t - t0))[s:e].max()
+    assert err <= 1e-9 * peak, err / peak
+    wrong = np.abs(fcontact - _jian_force(k, c0, tau, delta, ddelta, step * DT - t0))[s:e].max()
     assert wrong > 1e-4 * peak, wrong / peak
 
 

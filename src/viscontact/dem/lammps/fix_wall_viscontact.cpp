@@ -11,6 +11,7 @@
 #include "input.h"
 #include "variable.h"
 #include "memory.h"
+#include "modify.h"
 #include "pair_viscontact.h"
 #include "region.h"
 #include "comm.h"
@@ -64,7 +65,8 @@ int FixWallViscontact::parse_dim(const std::string &key, const std::string &text
 }
 
 FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), region(nullptr), tmax(1), store(nullptr), energy_on(false),
+    Fix(lmp, narg, arg), region(nullptr), tmax(1), store(nullptr), nstored(nullptr),
+    energy_on(false),
     ediss(nullptr), eel(nullptr), heat_on(false)
 {
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
@@ -201,8 +203,7 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       peratom_freq = 1;
       i += 1;
     } else {
-      fail("unknown keyword " + viscontact::quoted(args[i]) + "; allowed: " + KEYWORDS +
-           viscontact::native_hint(args, i));
+      fail("unknown keyword " + viscontact::quoted(args[i]) + "; allowed: " + KEYWORDS);
     }
   }
   if (!seen_wall) fail("missing wall_material (E NU | rigid)");
@@ -241,7 +242,8 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
   hsize = model.history_size();
   slotsize = 1 + hsize;
   nvalues = 1 + tmax * slotsize;
-  kept.assign(static_cast<size_t>(tmax) * slotsize, 0.0);
+  goes_on.assign(tmax, 0);
+  fresh.assign(tmax, 0);
   restart_peratom = 1;
   restart_global = 1;
   create_attribute = 1;
@@ -259,6 +261,7 @@ FixWallViscontact::~FixWallViscontact()
   atom->delete_callback(id, Atom::GROW);
   atom->delete_callback(id, Atom::RESTART);
   memory->destroy(store);
+  memory->destroy(nstored);
   memory->destroy(array_atom);
   memory->destroy(ediss);
   memory->destroy(eel);
@@ -298,6 +301,8 @@ void FixWallViscontact::init()
            "when the fix was defined: define the fix again");
   }
 
+  energy_on = !modify->get_compute_by_style("^viscontact/energy$").empty();
+
   // which types of the group are present (any rank): each needs a material
   const int ntypes = atom->ntypes;
   std::vector<int> here(ntypes + 1, 0), present(ntypes + 1, 0);
@@ -322,12 +327,16 @@ void FixWallViscontact::init()
     type_model[t].law.Estar = viscontact::mix_Estar(E, nu, Ewall, wall_nu);
     type_model[t].law.Gstar = viscontact::mix_Gstar(E, nu, Ewall, wall_nu);
     type_model[t].setup();
+    // the energy bookkeeping only with a compute viscontact/energy (as pair viscontact); its
+    // history slots stay in the layout either way (restart files and migration unchanged)
+    type_model[t].track_energy = energy_on;
     type_ok[t] = 1;
   }
   cache.assign(1 << CACHE_BITS, Coeffs());    // the materials may have changed
+  last_coeffs = nullptr;
 }
 
-const viscontact::ContactCoeffs &FixWallViscontact::coeffs(int type, double m, double r)
+const viscontact::ContactCoeffs &FixWallViscontact::coeffs_lookup(int type, double m, double r)
 {
   uint64_t bm, br;
   std::memcpy(&bm, &m, sizeof bm);
@@ -345,6 +354,8 @@ const viscontact::ContactCoeffs &FixWallViscontact::coeffs(int type, double m, d
     c.m = m;
     c.r = r;
   }
+  viscontact::relaxation_step(c.cc, update->dt);
+  last_coeffs = &c;
   return c.cc;
 }
 
@@ -421,15 +432,16 @@ void FixWallViscontact::find_touches(int i, double wlo, double whi, const double
       error->one(FLERR, std::string(PREFIX) + "atom " + std::to_string(atom->tag[i]) +
                             " touches " + std::to_string(nc) + " faces of region " + idregion +
                             ", more than the " + std::to_string(tmax) + " it allows");
-    const bool moving = region->dynamic_check();
+    const bool moving = region_moving;
     for (int ic = 0; ic < nc; ic++) {
       const auto &rc = region->contact[ic];
       if (!(rc.r > 0.0) || rc.r >= rad) continue;
       c.iwall = rc.iwall;
       c.r = rc.r;
-      c.n[0] = rc.delx / rc.r;
-      c.n[1] = rc.dely / rc.r;
-      c.n[2] = rc.delz / rc.r;
+      const double rinv = 1.0 / rc.r;    // one division, not three
+      c.n[0] = rc.delx * rinv;
+      c.n[1] = rc.dely * rinv;
+      c.n[2] = rc.delz * rinv;
       c.rwall = rc.radius;
       if (moving && region->varshape && rc.varflag && !region->rotateflag) {
         // a face whose size changes in time on a region that does not rotate: the region's
@@ -544,7 +556,8 @@ void FixWallViscontact::post_force(int /*vflag*/)
   }
   // a region's motion: its transform and its velocity over the last step (once per step for
   // all fixes using the region)
-  if (region && region->dynamic_check()) {
+  region_moving = region && region->dynamic_check();
+  if (region_moving) {
     region->prematch();
     region->set_velocity();
   }
@@ -558,9 +571,16 @@ void FixWallViscontact::post_force(int /*vflag*/)
   const int touch = model.history_slots().touch;
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
-    if (region && !region->match(atom->x[i][0], atom->x[i][1], atom->x[i][2])) {
+    // (a region with an open face matches every point: Region::match() would only transform
+    // it, which for a moving region costs a sine and a cosine per atom and step)
+    if (region && !region->openflag &&
+        !region->match(atom->x[i][0], atom->x[i][1], atom->x[i][2])) {
       // outside: no contact, and no stale history to come back with the atom
-      end_contacts(i, -1);
+      if (nstored[i] != 0) {
+        for (int k = 0; k < tmax; k++) goes_on[k] = 0;
+        nstored[i] = end_contacts(i);
+        store[i][0] = nstored[i];
+      }
       continue;
     }
     if (!type_ok[atom->type[i]])    // a type without material (e.g. inserted since init)
@@ -569,65 +589,101 @@ void FixWallViscontact::post_force(int /*vflag*/)
                             ": give particle E NU, or pair_coeff I I of pair viscontact");
     find_touches(i, wlo, whi, vplane);
     const viscontact::ContactModel &m = type_model[atom->type[i]];
-    const int nold = static_cast<int>(store[i][0]);
+    const int nold = nstored[i];
     const double rad = atom->radius[i];
 
-    // each face's history by its wall index.  A run's setup keeps and drops contacts as a
-    // step does and keeps what it writes (the Coulomb caps), only the history does not
-    // advance: native fix wall/gran marks a contact touching there (a jkr contact stretched
-    // in the first step keeps its attraction) and clears one no longer touching
-    int nkept = 0;
-    for (const Touch &c : touches) {
-      int k = 0;
-      while (k < nold && static_cast<int>(slot(i, k)[0]) != c.iwall) k++;
-      double *stored = k < nold ? slot(i, k) + 1 : nullptr;
-      if (!m.touching(c.r * c.r, rad, effective_radius(rad, c.rwall),
-                      stored && stored[touch] != 0.0))
+    // each face's history by its wall index; a contact that goes on is evaluated where it is
+    // stored (native's in-place update: no copy of the history per contact and step).  A run's
+    // setup keeps and drops contacts as a step does and keeps what it writes (the Coulomb
+    // caps), only the history does not advance: native fix wall/gran marks a contact touching
+    // there (a jkr contact stretched in the first step keeps its attraction) and clears one no
+    // longer touching
+    if (nold == 0 && touches.empty()) continue;
+    for (int k = 0; k < nold; k++) goes_on[k] = 0;
+    int nfresh = 0, ngoing = 0;
+    for (int t = 0; t < static_cast<int>(touches.size()); t++) {
+      const Touch &c = touches[t];
+      double *stored = find_slot(i, nold, c.iwall);
+      if (!touching(m, c, rad, stored && stored[touch] != 0.0))
         continue;
-      double *h = &kept[static_cast<size_t>(nkept) * slotsize];
-      h[0] = c.iwall;
-      for (int q = 0; q < hsize; q++) h[1 + q] = stored ? stored[q] : 0.0;
-      contact(i, h + 1, c, update_history, t_now);
-      nkept++;
+      if (stored) {
+        goes_on[(stored - 1 - slot(i, 0)) / slotsize] = 1;
+        ngoing++;
+        contact(i, stored, c, update_history, t_now);
+      } else {
+        fresh[nfresh++] = t;    // new: after the ended contacts have left their slots
+      }
     }
     // faces no longer touching: their contacts end (their elastic energy is released into
-    // the dissipated columns); a face found again later starts from zero
-    end_contacts(i, nkept, wallstyle <= ZPLANE ? vplane : nullptr);
-    store[i][0] = nkept;
-    for (int q = 0; q < nkept * slotsize; q++) store[i][1 + q] = kept[q];
+    // the dissipated columns); those that go on move up over them; a face found again later
+    // starts from zero
+    const int nkept =
+        ngoing == nold ? nold : end_contacts(i, wallstyle <= ZPLANE ? vplane : nullptr);
+    int n = nkept;
+    for (int q = 0; q < nfresh; q++, n++) {
+      const Touch &c = touches[fresh[q]];
+      double *h = slot(i, n);
+      h[0] = c.iwall;
+      for (int v = 0; v < hsize; v++) h[1 + v] = 0.0;
+      contact(i, h + 1, c, update_history, t_now);
+    }
+    store[i][0] = nstored[i] = n;
   }
 }
 
-/* The stored contacts of atom i that are not among the first nkept of `kept` (all of them for
-   nkept < 0) end now: with the energy tally on, each releases its last elastic energy and the
-   second half of its last forces' work into the dissipated columns (as pair viscontact does;
-   on this step's velocities where the wall's is known, vplane of a plane wall).  Clears the
-   store for nkept < 0. */
-void FixWallViscontact::end_contacts(int i, int nkept, const double *vplane)
+/* Does face c touch the sphere of radius rad (ContactModel::touching)?  R* (a division) only
+   where it matters: a jkr contact that existed at the last step holds on to its pull-off
+   distance. */
+bool FixWallViscontact::touching(const viscontact::ContactModel &m, const Touch &c, double rad,
+                                 bool touched) const
 {
-  const int nold = static_cast<int>(store[i][0]);
-  if (energy_on && !update->setupflag) {    // a run's setup is no step: it dissipates nothing
-    const viscontact::ContactModel &m = type_model[atom->type[i]];
-    viscontact::ContactGeometry now;
-    if (vplane) {
-      for (int d = 0; d < 3; d++) {
-        now.vr[d] = atom->v[i][d] - vplane[d];
-        now.omega_i[d] = atom->omega[i][d];
-        now.omega_j[d] = 0.0;
-      }
-      now.reff = atom->radius[i];    // a plane: R* = r
-      now.dt = update->dt;
-      now.wall = true;
-    }
-    for (int k = 0; k < nold; k++) {
-      const double *s = slot(i, k);
-      bool found = false;
-      for (int q = 0; q < nkept && !found; q++)
-        found = static_cast<int>(kept[static_cast<size_t>(q) * slotsize]) == static_cast<int>(s[0]);
-      if (!found) m.release(s + 1, ediss[i], vplane ? &now : nullptr);
-    }
+  if (touched && m.normal.kind == viscontact::NormalKind::JKR)
+    return m.touching(c.r * c.r, rad, effective_radius(rad, c.rwall), true);
+  return c.r * c.r < rad * rad;
+}
+
+/* The stored contact of atom i with face iwall among its first nold (its history, after the
+   face index), or nullptr. */
+double *FixWallViscontact::find_slot(int i, int nold, int iwall)
+{
+  for (int k = 0; k < nold; k++) {
+    double *s = slot(i, k);
+    if (static_cast<int>(s[0]) == iwall) return s + 1;
   }
-  if (nkept < 0) store[i][0] = 0.0;
+  return nullptr;
+}
+
+/* The stored contacts of atom i whose goes_on flag is 0 end now (all of them for goes_on
+   cleared): with the energy tally on, each releases its last elastic energy and the second
+   half of its last forces' work into the dissipated columns (as pair viscontact does; on this
+   step's velocities where the wall's is known, vplane of a plane wall).  Those that go on move
+   to the front, in order; returns their number (the store's count is left to the caller). */
+int FixWallViscontact::end_contacts(int i, const double *vplane)
+{
+  const int nold = nstored[i];
+  viscontact::ContactGeometry now;
+  if (energy_on && vplane) {
+    for (int d = 0; d < 3; d++) {
+      now.vr[d] = atom->v[i][d] - vplane[d];
+      now.omega_i[d] = atom->omega[i][d];
+      now.omega_j[d] = 0.0;
+    }
+    now.reff = atom->radius[i];    // a plane: R* = r
+    now.dt = update->dt;
+    now.wall = true;
+  }
+  int n = 0;
+  for (int k = 0; k < nold; k++) {
+    double *s = slot(i, k);
+    if (!goes_on[k]) {
+      if (energy_on && !update->setupflag)    // a run's setup is no step: it dissipates nothing
+        type_model[atom->type[i]].release(s + 1, ediss[i], vplane ? &now : nullptr);
+      continue;
+    }
+    if (n != k) std::memcpy(slot(i, n), s, sizeof(double) * slotsize);
+    n++;
+  }
+  return n;
 }
 
 double FixWallViscontact::compute_vector(int k)
@@ -680,6 +736,7 @@ constexpr int NELASTIC = viscontact::NELASTIC;
 void FixWallViscontact::grow_arrays(int nmax)
 {
   memory->grow(store, nmax, nvalues, "viscontact/wall:history");
+  memory->grow(nstored, nmax, "viscontact/wall:contacts_stored");
   memory->grow(ediss, nmax, NDISS, "viscontact/wall:dissipated");
   memory->grow(eel, nmax, NELASTIC, "viscontact/wall:elastic");
   if (peratom_flag) memory->grow(array_atom, nmax, size_peratom_cols, "viscontact/wall:contacts");
@@ -688,6 +745,7 @@ void FixWallViscontact::grow_arrays(int nmax)
 void FixWallViscontact::copy_arrays(int i, int j, int /*delflag*/)
 {
   for (int m = 0; m < nvalues; m++) store[j][m] = store[i][m];
+  nstored[j] = nstored[i];
   for (int m = 0; m < NDISS; m++) ediss[j][m] = ediss[i][m];
   for (int m = 0; m < NELASTIC; m++) eel[j][m] = eel[i][m];
   if (peratom_flag)
@@ -697,6 +755,7 @@ void FixWallViscontact::copy_arrays(int i, int j, int /*delflag*/)
 void FixWallViscontact::set_arrays(int i)
 {
   for (int m = 0; m < nvalues; m++) store[i][m] = 0.0;
+  nstored[i] = 0;
   for (int m = 0; m < NDISS; m++) ediss[i][m] = 0.0;
   for (int m = 0; m < NELASTIC; m++) eel[i][m] = 0.0;
   if (peratom_flag)
@@ -717,6 +776,7 @@ int FixWallViscontact::unpack_exchange(int nlocal, double *buf)
 {
   int n = 0;
   for (int m = 0; m < nvalues; m++) store[nlocal][m] = buf[n++];
+  nstored[nlocal] = static_cast<int>(store[nlocal][0]);
   for (int m = 0; m < NDISS; m++) ediss[nlocal][m] = buf[n++];
   for (int m = 0; m < NELASTIC; m++) eel[nlocal][m] = 0.0;
   if (peratom_flag)
@@ -746,6 +806,7 @@ void FixWallViscontact::unpack_restart(int nlocal, int nth)
                           "read_restart?)");
   m++;
   for (int k = 0; k < nvalues; k++) store[nlocal][k] = extra[nlocal][m++];
+  nstored[nlocal] = static_cast<int>(store[nlocal][0]);
   for (int k = 0; k < NDISS; k++) ediss[nlocal][k] = extra[nlocal][m++];
 }
 
@@ -762,5 +823,6 @@ int FixWallViscontact::maxsize_restart()
 double FixWallViscontact::memory_usage()
 {
   return static_cast<double>(atom->nmax) *
-      (nvalues + NDISS + NELASTIC + (peratom_flag ? size_peratom_cols : 0)) * sizeof(double);
+      ((nvalues + NDISS + NELASTIC + (peratom_flag ? size_peratom_cols : 0)) * sizeof(double) +
+       sizeof(int));
 }

@@ -60,6 +60,7 @@
 #define VISCONTACT_FIX_WALL_VISCONTACT_H
 
 #include "fix.h"
+#include "update.h"
 #include "viscontact_lammps.h"
 #include "viscontact_model.h"
 
@@ -137,7 +138,16 @@ class FixWallViscontact : public Fix, public viscontact::EnergySource {
   };
   static constexpr int CACHE_BITS = 8;
   std::vector<Coeffs> cache;
-  const viscontact::ContactCoeffs &coeffs(int type, double m, double reff);
+  const Coeffs *last_coeffs = nullptr;    // the entry of the last lookup
+  /// k, c0, tau (and the relaxation's step factors) of a sphere of type, mass m and R* reff;
+  /// most packings have one sphere size: the entry of the last lookup is tried first
+  const viscontact::ContactCoeffs &coeffs(int type, double m, double reff)
+  {
+    const Coeffs *c = last_coeffs;
+    if (c && c->type == type && c->m == m && c->r == reff && c->cc.step == update->dt) return c->cc;
+    return coeffs_lookup(type, m, reff);
+  }
+  const viscontact::ContactCoeffs &coeffs_lookup(int type, double m, double reff);
 
   // per-atom storage: [0] number of stored contacts, then tmax slots of
   // [wall index, the contact model's history (hsize values)]
@@ -145,7 +155,12 @@ class FixWallViscontact : public Fix, public viscontact::EnergySource {
   int nvalues;
   double **store;
   double *slot(int i, int k) { return &store[i][1 + k * slotsize]; }
-  std::vector<double> kept;    // one atom's contacts of this step, as they will be stored
+  int *nstored;                // per atom: its stored contacts (store[i][0], compact: the
+                               // atoms away from the wall do not touch their store rows)
+  bool region_moving = false;  // the region's dynamic_check() this step
+  std::vector<char> goes_on;   // per stored contact of one atom: touched again this step
+  std::vector<int> fresh;      // this step's touches that are new contacts
+  double *find_slot(int i, int nold, int iwall);
 
   // energy (compute viscontact/energy): cumulative dissipation (migrates, restart) and the
   // elastic energy of the last force computation, NDISS and NELASTIC per atom
@@ -168,12 +183,14 @@ class FixWallViscontact : public Fix, public viscontact::EnergySource {
   };
   std::vector<Touch> touches;
   void find_touches(int i, double wlo, double whi, const double vplane[3]);
+  bool touching(const viscontact::ContactModel &m, const Touch &c, double rad,
+                bool touched) const;
 
   [[noreturn]] void fail(const std::string &msg);
   double parse_coordinate(const std::string &key, const char *text, bool &present);
   int parse_dim(const std::string &key, const std::string &text);
   void contact(int i, double *hist, const Touch &c, bool update_history, double t_now);
-  void end_contacts(int i, int nkept, const double *vplane = nullptr);
+  int end_contacts(int i, const double *vplane = nullptr);
   double effective_radius(double r, double rwall) const
   {
     return rwall == 0.0 ? r : r * rwall / (r + rwall);

@@ -246,6 +246,7 @@ void PairViscontact::init_style()
   else
     neighbor->add_request(this, NeighConst::REQ_SIZE);
   coeff_cache.assign(1 << COEFF_CACHE_BITS, CoeffCache());    // coefficients may have changed
+  last_coeffs = nullptr;
 
   // every contact keeps a history (touch flag, start time, dissipated energy, springs)
   need_history = 1;
@@ -422,8 +423,8 @@ VISCONTACT_ALWAYS_INLINE void PairViscontact::pair_geometry(int i, int j, const 
 
 /* Per-contact k_H, c0, tau depend on (types, m*, R*) only: a small direct-mapped cache saves
    the powers of the alpha form for the few distinct contacts of most packings. */
-const vc::ContactCoeffs &PairViscontact::coeffs_of(int i, int j, int itype, int jtype,
-                                                   double meff, double reff)
+const vc::ContactCoeffs &PairViscontact::coeffs_lookup(int i, int j, int itype, int jtype,
+                                                       double meff, double reff)
 {
   uint64_t bm, br;
   std::memcpy(&bm, &meff, sizeof bm);
@@ -443,6 +444,8 @@ const vc::ContactCoeffs &PairViscontact::coeffs_of(int i, int j, int itype, int 
     e.meff = meff;
     e.reff = reff;
   }
+  vc::relaxation_step(e.cc, update->dt);
+  last_coeffs = &e;
   return e.cc;
 }
 

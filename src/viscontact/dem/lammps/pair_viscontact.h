@@ -21,6 +21,7 @@
 #define VISCONTACT_PAIR_VISCONTACT_H
 
 #include "pair.h"
+#include "update.h"
 #include "viscontact_contact.h"
 #include "viscontact_lammps.h"
 #include "viscontact_model.h"
@@ -107,8 +108,20 @@ class PairViscontact : public Pair {
   void energy_end(EnergyTally *t, bool advance);
   void pair_geometry(int i, int j, const double dx[3], double rsq, double meff,
                      viscontact::ContactGeometry &g) const;
+  /// k, c0, tau (and the relaxation's step factors) of a contact; most packings have one or
+  /// two kinds of contact: the entry of the last lookup is tried first
   const viscontact::ContactCoeffs &coeffs_of(int i, int j, int itype, int jtype, double meff,
-                                             double reff);
+                                             double reff)
+  {
+    const CoeffCache *e = last_coeffs;
+    if (e && e->itype == itype && e->jtype == jtype && e->meff == meff && e->reff == reff &&
+        e->cc.step == update->dt)
+      return e->cc;
+    return coeffs_lookup(i, j, itype, jtype, meff, reff);
+  }
+  const viscontact::ContactCoeffs &coeffs_lookup(int i, int j, int itype, int jtype, double meff,
+                                                 double reff);
+  const CoeffCache *last_coeffs = nullptr;    // the entry of the last lookup
 
   void allocate();
   void set_cutoff_radii();

@@ -170,7 +170,7 @@ constexpr int NDAMP = 23;
 /// History slot offsets of a model (-1: absent).  The total is history_size().
 struct HistorySlots {
   int touch = 0;       ///< 1 while the contact exists (jkr: until pull-off)
-  int t0 = -1;         ///< time the contact began (laws with a relaxation time: Jian's clock)
+  int relax = -1;      ///< relaxation g = 1 - exp(-t_c/tau) at the last step (Jian's clock)
   int energy = -1;     ///< the contact's accumulated dissipated energy (track_energy)
   int elastic = -1;    ///< its elastic energy parts at the last step (NELASTIC, track_energy)
   int xi = -1;         ///< tangential displacement xi or elastic force h (3)
@@ -252,7 +252,7 @@ class ContactModel {
   {
     int n = 1;
     slots = HistorySlots();
-    if (LAW_TABLE[static_cast<int>(law.law)].needs_beta || force_t0) slots.t0 = n++;
+    if (LAW_TABLE[static_cast<int>(law.law)].needs_beta || force_t0) slots.relax = n++;
     if (track_energy) {
       slots.energy = n++;
       slots.elastic = n;
@@ -458,11 +458,26 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
   if (fresh) {
     for (int k = 0; k < slots.size; k++) h[k] = 0.0;
     h[slots.touch] = 1.0;
-    if (slots.t0 >= 0) h[slots.t0] = contact_start_time(g.t_now, dt, delta, ddelta);
   }
 
   // (2) contact radius, (3) elastic normal force and potential
   ContactCoeffs cc = g.coeffs ? *g.coeffs : contact_coeffs(law, g.meff, reff);
+  // Jian's relaxation g(t_c) = 1 - exp(-t_c/tau), t_c the time since the contact began: a new
+  // contact starts its clock at most one step back (contact_start_time); each regular step
+  // then advances the stored g exactly by g <- g exp(-dt/tau) + 1 - exp(-dt/tau), whatever dt
+  // is at that step (the factors cached per coefficient set and dt: relaxation_step); a run's
+  // setup and single() (advance false) read g as it is
+  double grel = 1.0;
+  if (slots.relax >= 0 && cc.tau > 0.0) {
+    if (fresh) {
+      const double t0 = contact_start_time(g.t_now, dt, delta, ddelta);
+      h[slots.relax] = relaxation(g.t_now - t0, cc.tau);
+    } else if (advance) {
+      if (!g.coeffs) relaxation_step(cc, dt);
+      h[slots.relax] = h[slots.relax] * cc.decay + cc.rise;
+    }
+    grel = h[slots.relax];
+  }
   const double kmat = 4.0 / 3.0 * law.Estar;
   const bool E_on = track_energy;
   double a, fne, fpo = 0.0, delta_a, U = 0.0;
@@ -492,8 +507,7 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
   res.a = a;
 
   // (4) damping prefactor and force, (5) total normal force and clamp
-  const double tc = slots.t0 >= 0 ? contact_clock(g.t_now, h[slots.t0]) : 0.0;
-  const double eta_n = cc.c0 * relaxation(tc, cc.tau) * overlap_power(delta_a, law.p);
+  const double eta_n = cc.c0 * grel * overlap_power(delta_a, law.p);
   const double fd = eta_n * ddelta;
   double fn = fne + fd;
   if (law.clamp && fn < 0.0) fn = 0.0;
