@@ -63,15 +63,9 @@ int FixWallViscontact::parse_dim(const std::string &key, const std::string &text
   fail(key + " DIM must be x, y or z, got " + viscontact::quoted(text));
 }
 
-FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), region(nullptr), tmax(1), store(nullptr), energy_on(false),
-    ediss(nullptr), eel(nullptr), heat_on(false)
+/* The wall style and its values (arg[3] on); returns the index of the first keyword after them. */
+int FixWallViscontact::parse_wall(int narg, char **arg)
 {
-  if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
-    fail("requires atom_style sphere (radius, rmass, omega, torque)");
-  if (narg < 4) fail(std::string("missing wall style; usage: ") + SYNTAX);
-
-  // wall geometry
   const std::string style = arg[3];
   int iarg = 4;
   has_lo = has_hi = false;
@@ -109,10 +103,41 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
          "; allowed: xplane yplane zplane (LO HI), zcylinder R or region REGION-ID");
   }
 
-  // materials, motion and the law
-  std::vector<std::string> args(arg + iarg, arg + narg);
-  viscontact::LawKeywords kw;
-  viscontact::NormalParams normal;
+  return iarg;
+}
+
+/* `wiggle DIM A PERIOD` or `shear DIM V` at args[i]; returns the index after it. */
+size_t FixWallViscontact::parse_motion(const std::vector<std::string> &args, size_t i)
+{
+  std::string err;
+  const bool wiggle = args[i] == "wiggle";
+  if (motion == (wiggle ? WIGGLE : SHEAR)) fail(args[i] + " given twice");
+  if (motion != STILL) fail("wiggle and shear cannot be combined: choose one");
+  if (!wiggle) {
+    if (i + 2 >= args.size()) fail("shear needs DIM V (DIM x|y|z, V a velocity)");
+    axis = parse_dim("shear", args[i + 1]);
+    err = viscontact::parse_number("shear V", args[i + 2], ANY_NUMBER, vshear);
+    if (!err.empty()) fail(err);
+    motion = SHEAR;
+    return i + 3;
+  }
+  if (i + 3 >= args.size()) fail("wiggle needs DIM A PERIOD (DIM x|y|z, PERIOD > 0)");
+  axis = parse_dim("wiggle", args[i + 1]);
+  double period = 0.0;
+  err = viscontact::parse_number("wiggle A", args[i + 2], ANY_NUMBER, amplitude);
+  if (err.empty())
+    err = viscontact::parse_number("wiggle PERIOD", args[i + 3], viscontact::POSITIVE_DOMAIN,
+                                   period);
+  if (!err.empty()) fail(err);
+  wfreq = 2.0 * M_PI / period;
+  motion = WIGGLE;
+  return i + 4;
+}
+
+/* The keywords after the wall (materials, motion, the contact model, outputs). */
+void FixWallViscontact::parse_keywords(const std::vector<std::string> &args)
+{
+  viscontact::ContactKeywords kw;
   bool seen_normal = false;
   bool seen_wall = false;
   has_particle = false;
@@ -128,12 +153,12 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
   size_t i = 0;
   while (i < args.size()) {
     std::string err;
-    if (kw.take(args, i, err)) {
+    if (kw.take(args, i, model, err)) {
       if (!err.empty()) fail(err);
     } else if (args[i] == "normal") {
       if (seen_normal) fail("normal given twice");
       seen_normal = true;
-      err = viscontact::parse_wall_normal(args, i, normal);
+      err = viscontact::parse_wall_normal(args, i, model.normal);
       if (!err.empty()) fail(err);
     } else if (args[i] == "wall_material") {
       if (seen_wall) fail("wall_material given twice");
@@ -158,29 +183,7 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       has_particle = true;
       i += 3;
     } else if (args[i] == "wiggle" || args[i] == "shear") {
-      const bool wiggle = args[i] == "wiggle";
-      if (motion == (wiggle ? WIGGLE : SHEAR)) fail(args[i] + " given twice");
-      if (motion != STILL) fail("wiggle and shear cannot be combined: choose one");
-      if (!wiggle) {
-        if (i + 2 >= args.size()) fail("shear needs DIM V (DIM x|y|z, V a velocity)");
-        axis = parse_dim("shear", args[i + 1]);
-        err = viscontact::parse_number("shear V", args[i + 2], ANY_NUMBER, vshear);
-        if (!err.empty()) fail(err);
-        motion = SHEAR;
-        i += 3;
-        continue;
-      }
-      if (i + 3 >= args.size()) fail("wiggle needs DIM A PERIOD (DIM x|y|z, PERIOD > 0)");
-      axis = parse_dim("wiggle", args[i + 1]);
-      double period = 0.0;
-      err = viscontact::parse_number("wiggle A", args[i + 2], ANY_NUMBER, amplitude);
-      if (err.empty())
-        err = viscontact::parse_number("wiggle PERIOD", args[i + 3], viscontact::POSITIVE_DOMAIN,
-                                       period);
-      if (!err.empty()) fail(err);
-      wfreq = 2.0 * M_PI / period;
-      motion = WIGGLE;
-      i += 4;
+      i = parse_motion(args, i);
     } else if (args[i] == "temperature") {
       if (has_twall) fail("temperature given twice");
       if (i + 1 >= args.size())
@@ -205,13 +208,27 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
     }
   }
   if (!seen_wall) fail("missing wall_material (E NU | rigid)");
-  const std::string err = kw.finish(normal.kind);
+  const std::string err = kw.finish(model);
   if (!err.empty()) fail(err);
-  model = kw.model(normal);
-  heat_on = model.heat.kind != viscontact::HeatKind::None;
+  model.setup();
+  heat_on = model.conducts_heat();
   if (heat_on && !has_twall)
     fail("heat area needs the wall temperature: temperature T or temperature v_NAME");
   if (!heat_on && has_twall) fail("temperature is only used with heat area K");
+
+}
+
+FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), region(nullptr), tmax(1), store(nullptr), energy_on(false),
+    ediss(nullptr), eel(nullptr), heat_on(false)
+{
+  if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
+    fail("requires atom_style sphere (radius, rmass, omega, torque)");
+  if (narg < 4) fail(std::string("missing wall style; usage: ") + SYNTAX);
+
+  const int iarg = parse_wall(narg, arg);
+  parse_keywords(std::vector<std::string>(arg + iarg, arg + narg));
+  const std::string style = arg[3];
 
   if (motion != STILL) {
     const char *what = motion == WIGGLE ? "wiggle" : "shear";
@@ -318,8 +335,8 @@ void FixWallViscontact::init()
              std::to_string(t) + " " + std::to_string(t));
       continue;    // an error if it ever touches the wall
     }
-    type_model[t].law.Estar = viscontact::mix_Estar(E, nu, Ewall, wall_nu);
-    type_model[t].law.Gstar = viscontact::mix_Gstar(E, nu, Ewall, wall_nu);
+    type_model[t].set_moduli(viscontact::mix_Estar(E, nu, Ewall, wall_nu),
+                             viscontact::mix_Gstar(E, nu, Ewall, wall_nu));
     type_model[t].setup();
     type_ok[t] = 1;
   }
@@ -335,7 +352,7 @@ const viscontact::ContactCoeffs &FixWallViscontact::coeffs(int type, double m, d
       static_cast<uint64_t>(type) * 0x165667B19E3779F9ULL;
   Coeffs &c = cache[(key * 0xD6E8FEB86659FD93ULL) >> (64 - CACHE_BITS)];
   if (c.type != type || c.m != m || c.r != r) {    // wall: m* = m, r = R* (10.8)
-    c.cc = viscontact::contact_coeffs(type_model[type].law, m, r);
+    c.cc = type_model[type].coeffs(m, r);
     if (!viscontact::coeffs_finite(c.cc))
       error->one(FLERR, std::string(PREFIX) + "a sphere of type " + std::to_string(type) +
                             " gets " + viscontact::describe_coeffs(c.cc) + "; the values are "

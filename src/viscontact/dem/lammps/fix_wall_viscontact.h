@@ -170,6 +170,9 @@ class FixWallViscontact : public Fix, public viscontact::EnergySource {
   void find_touches(int i, double wlo, double whi, const double vplane[3]);
 
   [[noreturn]] void fail(const std::string &msg);
+  int parse_wall(int narg, char **arg);
+  void parse_keywords(const std::vector<std::string> &args);
+  size_t parse_motion(const std::vector<std::string> &args, size_t i);
   double parse_coordinate(const std::string &key, const char *text, bool &present);
   int parse_dim(const std::string &key, const std::string &text);
   void contact(int i, double *hist, const Touch &c, bool update_history, double t_now);
