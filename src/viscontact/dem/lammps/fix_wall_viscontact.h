@@ -32,7 +32,7 @@
      is an error.
 
    Contact model: the one viscontact contact step (viscontact::ContactModel::evaluate,
-   viscontact_model.h; the same keywords as pair viscontact, viscontact_keywords.h) with the
+   viscontact_model.h; the same keywords as pair viscontact, ContactKeywords) with the
    wall as body j: r_j = 0 (R* from the curvature above), m* = m_i (the body's mass in a rigid
    body), w_j = 0, v_j = the wall velocity, lever arm r_i, T_j = the wall temperature.  A jkr
    contact with a plane or the cylinder lives until pull-off (delta > -delta_c(R*)); with a

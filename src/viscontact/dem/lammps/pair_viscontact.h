@@ -91,7 +91,7 @@ class PairViscontact : public Pair {
   bigint radii_checked_run[2];    // first and last step of the run whose radii were checked
   class FixViscontactHistory *fix_history;
 
-  static constexpr int MAX_HISTORY = 40;    // the largest ContactModel::history_size() (36)
+  static constexpr int MAX_HISTORY = 40;    // the largest ContactModel::history_size() (38)
   struct EnergyTally {
     std::vector<double> diss, elastic;    // this step, per atom (local and ghost)
     void add_pair(int i, int j, int nlocal, int newton_pair, const viscontact::ContactResult &r);

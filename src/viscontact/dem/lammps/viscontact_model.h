@@ -240,10 +240,10 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
   s.cc = g.coeffs ? *g.coeffs : coeffs(g.meff, g.reff);
 
   // normal, damping, critical force, tangential (and its torques), rolling, twisting, heat
-  dispatch(normal, [&](const auto &m) { m.calculate(s); });
+  dispatch(normal, [&](const auto &m) VISCONTACT_INLINE_LAMBDA { m.calculate(s); });
   damping.calculate(s, hd);
-  dispatch(normal, [&](const auto &m) { m.critical_force(s); });
-  dispatch(tangential, [&](const auto &m) { m.calculate(s, h + slots.tangential); });
+  dispatch(normal, [&](const auto &m) VISCONTACT_INLINE_LAMBDA { m.critical_force(s); });
+  dispatch(tangential, [&](const auto &m) VISCONTACT_INLINE_LAMBDA { m.calculate(s, h + slots.tangential); });
   double nxf[3];
   detail::cross3(s.n, s.ft, nxf);
   const double arms[2] = {g.wall ? g.r_i : g.r_i - 0.5 * s.delta, g.wall ? 0.0 : g.r_j - 0.5 * s.delta};
@@ -251,9 +251,9 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
     res.torque_i[k] = -arms[0] * nxf[k];
     res.torque_j[k] = g.wall ? 0.0 : -arms[1] * nxf[k];
   }
-  dispatch(rolling, [&](const auto &m) { m.calculate(s, h + slots.rolling, res); });
-  dispatch(twisting, [&](const auto &m) { m.calculate(s, h + slots.twisting, res); });
-  dispatch(heat, [&](const auto &m) { res.heat = m.flow(s); });
+  dispatch(rolling, [&](const auto &m) VISCONTACT_INLINE_LAMBDA { m.calculate(s, h + slots.rolling, res); });
+  dispatch(twisting, [&](const auto &m) VISCONTACT_INLINE_LAMBDA { m.calculate(s, h + slots.twisting, res); });
+  dispatch(heat, [&](const auto &m) VISCONTACT_INLINE_LAMBDA { res.heat = m.flow(s); });
 
   res.a = s.a;
   res.fne = s.fne;

@@ -34,8 +34,13 @@
 /// the result live in registers rather than in memory (measured: about 30 % of the pair's time).
 #if defined(__GNUC__)
 #define VISCONTACT_ALWAYS_INLINE inline __attribute__((always_inline))
+/// The same for a lambda (after its parameter list): a sub-model's step called through
+/// dispatch() is inlined too, so that the contact's state stays in registers (measured: an
+/// out-of-line tangential step made the all-sub-models case about 20 % slower).
+#define VISCONTACT_INLINE_LAMBDA __attribute__((always_inline))
 #else
 #define VISCONTACT_ALWAYS_INLINE inline
+#define VISCONTACT_INLINE_LAMBDA
 #endif
 
 namespace viscontact {
