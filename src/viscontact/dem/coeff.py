@@ -22,7 +22,9 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 from ..physics import domain
-from ..physics.pair import HERTZ_TC, check_poisson
+from ..physics.pair import (
+    check_poisson, effective_mass, effective_modulus, effective_radius, hertz_limit, hertz_stiffness,
+)
 from ._text import check_type_spec, quote_path
 from .law import DemLaw, contact_law
 from .materials import ParticleType, Wall, _wall_pair, mixed_material
@@ -200,11 +202,9 @@ def _type_key(key: Any, ntypes: int) -> int:
 
 
 def _contact_time(m_eff: float, r_eff: float, e_eff: float, v: float) -> float:
-    """Undamped Hertz contact duration t_c = HERTZ_TC (m*^2 / (k^2 v))^(1/5) with
-    k = (4/3) E* sqrt(R*): the elastic Hertz impact lasts 3.2180654597 time scales T
-    (:data:`viscontact.physics.pair.HERTZ_TC`)."""
-    k = 4.0 / 3.0 * e_eff * math.sqrt(r_eff)
-    return HERTZ_TC * (m_eff ** 2 / (k ** 2 * v)) ** 0.2
+    """Undamped Hertz contact duration t_c = 3.2180654597 T at speed v, k_Hertz and T as
+    :mod:`viscontact.physics.pair` has them (:func:`hertz_limit`)."""
+    return hertz_limit(m_eff, hertz_stiffness(e_eff, r_eff), v)[0]
 
 
 def coeff_set(
@@ -312,13 +312,13 @@ def _time_comments(types: list[ParticleType], wall_mats: list[tuple[float, float
         a, b = (types[k - 1] for k in pl.types)
         ma, mb = (t.density * math.pi / 6 * t.diameter[0] ** 3 for t in (a, b))  # type: ignore[index, operator]
         ra, rb = a.diameter[0] / 2, b.diameter[0] / 2  # type: ignore[index]
-        shortest = min(shortest, _contact_time(ma * mb / (ma + mb), ra * rb / (ra + rb),
-                                               pl.E / (2 * (1 - pl.nu ** 2)), vref))
+        shortest = min(shortest, _contact_time(effective_mass(ma, mb), effective_radius(ra, rb),
+                                               effective_modulus(pl.E, pl.nu, pl.E, pl.nu), vref))
     for wall in wall_mats:
         for t in types:
-            inv = (1 - t.nu ** 2) / t.E + (0.0 if wall is None else (1 - wall[1] ** 2) / wall[0])
+            e_eff = effective_modulus(t.E, t.nu, *(wall or (None, None)))
             m = t.density * math.pi / 6 * t.diameter[0] ** 3  # type: ignore[index, operator]
-            shortest = min(shortest, _contact_time(m, t.diameter[0] / 2, 1 / inv, vref))  # type: ignore[index]
+            shortest = min(shortest, _contact_time(m, t.diameter[0] / 2, e_eff, vref))  # type: ignore[index]
     tc = convert(shortest, "time", units)
     return (f"# shortest Hertz contact time t_c at vref (smallest spheres): {tc:.4g} ({units} time units)",
             f"# a time step of t_c/50 resolves every contact: timestep {tc / 50:.3g}")

@@ -21,7 +21,7 @@ from typing import Any
 
 from ..collision import check_end
 from ..physics import domain
-from ..physics.laws import MODELS, lookup, resolve
+from ..physics.laws import MODELS, exponent, given_exponent, lookup, resolve
 from ..physics.pair import ContactPair, damping_coefficient
 from .native import native_hint
 from .units import _num, convert
@@ -62,7 +62,7 @@ class DemLaw:
         object.__setattr__(self, "law", spec.name)
         check_end(self.end)
         p = domain.check("p", self.p, label="p")
-        if spec.p is not None and p != spec.p:
+        if exponent(spec, given_exponent(spec, p), noun="law") != p:
             raise ValueError(f"law {spec.name} has the fixed exponent p = {spec.p}, got p = {self.p!r}")
         object.__setattr__(self, "p", p)
         if (self.alpha is None) == (self.c0 is None):
@@ -93,6 +93,11 @@ class DemLaw:
             object.__setattr__(self, name, domain.check(kind, value, label=name))
 
     @property
+    def given_p(self) -> float | None:
+        """p as the user gives it: for the power law, None for a law with a fixed exponent."""
+        return given_exponent(lookup(self.law), self.p)
+
+    @property
     def by_alpha(self) -> bool:
         """True for the alpha form (alpha at vref), False for the physical c0 form."""
         return self.alpha is not None
@@ -102,7 +107,7 @@ class DemLaw:
         ``damping KK alpha 0.3 vref 1.5 end force``; vref, c0 and tau converted from SI to the
         LAMMPS ``units`` style (:func:`convert`; alpha, beta, p are dimensionless)."""
         words = ["damping", self.law]
-        if lookup(self.law).p is None:  # the law whose exponent the user gives
+        if self.given_p is not None:  # the law whose exponent the user gives
             words += ["p", _num(self.p)]
         if self.by_alpha:
             words += ["alpha", _num(self.alpha), "vref", _num(convert(self.vref, "velocity", units))]
@@ -125,7 +130,7 @@ class DemLaw:
             return self.c0, self.tau  # type: ignore[return-value]
         at_ref = pair.at(self.vref)  # type: ignore[arg-type]
         c0 = damping_coefficient(self.law, self.alpha, m_eff=pair.m_eff, k_hertz=pair.k_hertz,
-                                 v=self.vref, p=self.p if lookup(self.law).p is None else None)
+                                 v=self.vref, p=self.given_p)
         return c0, (None if self.beta is None else self.beta * at_ref.T)
 
     def to_dict(self) -> dict[str, Any]:
@@ -160,14 +165,7 @@ def contact_law(
     if len(forms) != 1:
         raise ValueError(f"give exactly one of e (with vref), alpha (with vref) or c0; got "
                          f"{', '.join(forms) if forms else 'none'}")
-    if spec.p is None:
-        if p is None:
-            raise ValueError(f"law power needs the exponent p (in {domain.range_text('p')})")
-        p_v = domain.check("p", p)
-    elif p is not None:
-        raise ValueError(f"law {name} has a fixed exponent p = {spec.p}; p is only for 'power'")
-    else:
-        p_v = float(spec.p)
+    p_v = exponent(spec, p, noun="law")
     if forms[0] == "c0":
         if vref is not None:
             raise ValueError("vref goes with e or alpha, not with c0 (c0 is already physical)")

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from ..physics import domain
-from ..physics.pair import check_poisson
+from ..physics.pair import check_poisson, compliance, shear_compliance
 from .units import _num, convert
 
 if TYPE_CHECKING:
@@ -50,8 +50,8 @@ def mixed_material(E1: float, nu1: float, E2: float, nu2: float) -> tuple[float,
     nu = (4 r - 1) / (2 r - 1) and E = 2 (1 - nu^2) E*.  r of the pair is a weighted harmonic
     mean of r1, r2 (each in [1/6, 1/3) for nu in (-1, 0.5]), so nu lies in (-1, 0.5] too.
     """
-    inv_e = (1 - nu1 ** 2) / E1 + (1 - nu2 ** 2) / E2
-    inv_g = 2 * (2 - nu1) * (1 + nu1) / E1 + 2 * (2 - nu2) * (1 + nu2) / E2
+    inv_e = compliance(E1, nu1, E2, nu2)
+    inv_g = shear_compliance(E1, nu1, E2, nu2)
     r = inv_e / inv_g
     nu = min(0.5, (4 * r - 1) / (2 * r - 1))
     return 2 * (1 - nu ** 2) / inv_e, nu

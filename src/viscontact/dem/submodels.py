@@ -1,8 +1,17 @@
 """Everything of a DEM contact but the damping law, as the plugin's ``pair_coeff`` and wall fix
-take it: the normal model (:class:`Normal`: Hertz, DMT or JKR), the tangential model
-(:class:`Tangential`), rolling and twisting resistance (:class:`Rolling`, :class:`Twisting`),
-heat conduction and the cutoff, bundled in :class:`SubModels`.  Each class checks its numbers
-once and writes its own keywords; :func:`viscontact.dem.coeff.contact_words` puts them together.
+take it, one class per sub-model as the plugin has one C++ type per sub-model
+(``dem/lammps/viscontact_<kind>.h``): each knows its keyword, its numbers and their domains,
+and writes its words.  The normal models :class:`NormalHertz`, :class:`NormalDMT`,
+:class:`NormalJKR`; the tangential models :class:`TangentialNone`, :class:`LinearNoHistory`,
+:class:`LinearHistory`, :class:`Mindlin`, :class:`MindlinRescale`, :class:`MindlinForce`,
+:class:`MindlinRescaleForce`; rolling :class:`RollingSDS`; twisting :class:`TwistingMarshall`,
+:class:`TwistingSDS`; heat :class:`HeatArea`.  Each kind's table (``NORMAL``, ``TANGENTIAL``,
+``TWISTING``) registers its models by keyword.
+
+The values users build are :class:`Normal`, :class:`Tangential`, :class:`Rolling`,
+:class:`Twisting` (a model name and its numbers) and :class:`SubModels` (all of them, heat and
+the cutoff); they check and write themselves through their model's class;
+:func:`viscontact.dem.coeff.contact_words` puts them together.
 """
 
 from __future__ import annotations
@@ -10,7 +19,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 from ..physics import domain
 from .law import DemLaw
@@ -18,13 +27,10 @@ from .native import native_hint
 from .units import _num, convert
 
 __all__ = ["Normal", "Tangential", "Rolling", "Twisting", "SubModels", "NORMAL_MODELS",
-           "TANGENTIAL_MODELS", "SPRING_MODELS"]
-
-NORMAL_MODELS = ("hertz", "dmt", "jkr")
-TANGENTIAL_MODELS = ("none", "linear_nohistory", "linear_history", "mindlin", "mindlin_rescale",
-                     "mindlin/force", "mindlin_rescale/force")
-#: tangential models with an elastic spring (the ones twisting marshall needs)
-SPRING_MODELS = TANGENTIAL_MODELS[2:]
+           "TANGENTIAL_MODELS", "SPRING_MODELS", "NORMAL", "TANGENTIAL", "TWISTING",
+           "NormalHertz", "NormalDMT", "NormalJKR", "TangentialNone", "LinearNoHistory",
+           "LinearHistory", "Mindlin", "MindlinRescale", "MindlinForce", "MindlinRescaleForce",
+           "RollingSDS", "TwistingMarshall", "TwistingSDS", "HeatArea"]
 
 
 def _nonneg(label: str, value: Any) -> float:
@@ -35,25 +41,282 @@ def _nonneg(label: str, value: Any) -> float:
     return v
 
 
-def _set_sds(obj: Any, what: str, fields: tuple[str, str, str], names: tuple[str, str, str]) -> None:
+def _set(obj: Any, field: str, value: Any) -> None:
+    object.__setattr__(obj, field, value)
+
+
+# ---------------------------------------------------------------------------- normal models
+
+
+class NormalHertz:
+    """``hertz/material E NU`` (pair) / ``normal hertz`` (wall, the default): Hertz, no
+    cohesion (Johnson, Contact Mechanics, 1985, ch. 4)."""
+
+    keyword: ClassVar[str] = "hertz"
+    pair_keyword: ClassVar[str] = "hertz/material"
+    cohesive: ClassVar[bool] = False
+
+    @classmethod
+    def check(cls, n: "Normal") -> None:
+        if n.W is not None:
+            raise ValueError("normal hertz takes no surface energy W (dmt W or jkr W do)")
+
+
+class NormalDMT:
+    """``dmt E NU W``: Hertz minus the pull-off force 4 pi W R* (Derjaguin, Muller & Toporov,
+    J. Colloid Interface Sci. 53 (1975) 314); W [J/m^2] >= 0."""
+
+    keyword: ClassVar[str] = "dmt"
+    pair_keyword: ClassVar[str] = "dmt"
+    cohesive: ClassVar[bool] = True
+
+    @classmethod
+    def check(cls, n: "Normal") -> None:
+        if n.W is None:
+            raise ValueError(f"normal {cls.keyword} needs the surface energy W (J/m^2, >= 0)")
+        _set(n, "W", _nonneg(f"normal {cls.keyword} W", n.W))
+
+
+class NormalJKR(NormalDMT):
+    """``jkr E NU W``: the JKR branch, pull-off force 3 pi W R* (Johnson, Kendall & Roberts,
+    Proc. R. Soc. A 324 (1971) 301); W [J/m^2] >= 0."""
+
+    keyword: ClassVar[str] = "jkr"
+    pair_keyword: ClassVar[str] = "jkr"
+
+
+#: the normal models by keyword (the registration)
+NORMAL: dict[str, Any] = {c.keyword: c for c in (NormalHertz, NormalDMT, NormalJKR)}
+NORMAL_MODELS = tuple(NORMAL)
+
+
+# ------------------------------------------------------------------------ tangential models
+
+
+class TangentialNone:
+    """``tangential none``: no tangential force."""
+
+    keyword: ClassVar[str] = "none"
+    usage: ClassVar[str] = ""
+    spring: ClassVar[bool] = False
+    nnumbers: ClassVar[int] = 0
+
+    @classmethod
+    def check(cls, t: "Tangential") -> None:
+        if t.kt is not None or t.xgamma or t.mu:
+            raise ValueError("tangential none takes no KT, XGAMMA or MU")
+
+    @classmethod
+    def from_numbers(cls, nums: list[Any]) -> "Tangential":
+        return Tangential(cls.keyword)
+
+    @classmethod
+    def words(cls, t: "Tangential", units: str) -> str:
+        return "tangential none"
+
+
+class LinearNoHistory(TangentialNone):
+    """``tangential linear_nohistory XGAMMA MU``: a dashpot eta_t = XGAMMA eta_n capped at MU
+    F0, no spring."""
+
+    keyword: ClassVar[str] = "linear_nohistory"
+    usage: ClassVar[str] = " XGAMMA MU"
+    nnumbers: ClassVar[int] = 2
+
+    @classmethod
+    def check(cls, t: "Tangential") -> None:
+        if t.kt is not None:
+            raise ValueError("tangential linear_nohistory takes XGAMMA MU, no spring KT")
+
+    @classmethod
+    def from_numbers(cls, nums: list[Any]) -> "Tangential":
+        return Tangential(cls.keyword, xgamma=nums[0], mu=nums[1])
+
+    @classmethod
+    def words(cls, t: "Tangential", units: str) -> str:
+        return " ".join(["tangential", cls.keyword, _num(t.xgamma), _num(t.mu)])
+
+
+class LinearHistory(LinearNoHistory):
+    """``tangential linear_history KT XGAMMA MU``: a spring KT [N/m] (Cundall & Strack 1979)
+    with the dashpot, capped at MU F0."""
+
+    keyword: ClassVar[str] = "linear_history"
+    usage: ClassVar[str] = " KT XGAMMA MU"
+    spring: ClassVar[bool] = True
+    nnumbers: ClassVar[int] = 3
+    #: KT's unit dimension (units.convert)
+    kt_dims: ClassVar[str] = "stiffness"
+
+    @classmethod
+    def check(cls, t: "Tangential") -> None:
+        if t.kt is None:
+            raise ValueError("tangential linear_history needs the spring KT (N/m, >= 0)")
+        _set(t, "kt", _nonneg(f"tangential {cls.keyword} KT", t.kt))
+
+    @classmethod
+    def from_numbers(cls, nums: list[Any]) -> "Tangential":
+        return Tangential(cls.keyword, kt=nums[0], xgamma=nums[1], mu=nums[2])
+
+    @classmethod
+    def words(cls, t: "Tangential", units: str) -> str:
+        kt = "NULL" if t.kt is None else _num(convert(t.kt, cls.kt_dims, units))
+        return " ".join(["tangential", cls.keyword, kt, _num(t.xgamma), _num(t.mu)])
+
+
+class MindlinRescale(LinearHistory):
+    """``tangential mindlin_rescale KT|NULL XGAMMA MU``: Mindlin's spring k_t = KT a
+    [N/m^2] (NULL: 8 G* a; Mindlin 1949), the displacement scaled down with a shrinking
+    contact."""
+
+    keyword: ClassVar[str] = "mindlin_rescale"
+    usage: ClassVar[str] = " KT|NULL XGAMMA MU"
+    kt_dims: ClassVar[str] = "stiffness_area"
+
+    @classmethod
+    def check(cls, t: "Tangential") -> None:
+        if t.kt is not None:
+            _set(t, "kt", _nonneg(f"tangential {cls.keyword} KT", t.kt))
+
+
+class MindlinForce(MindlinRescale):
+    """``tangential mindlin/force KT|NULL XGAMMA MU``: Mindlin's spring, the history kept as
+    the elastic force."""
+
+    keyword: ClassVar[str] = "mindlin/force"
+
+
+class MindlinRescaleForce(MindlinRescale):
+    """``tangential mindlin_rescale/force KT|NULL XGAMMA MU``: both of the above."""
+
+    keyword: ClassVar[str] = "mindlin_rescale/force"
+
+
+class Mindlin(MindlinRescale):
+    """``tangential mindlin KT|NULL XGAMMA MU``, or the short form ``mindlin MU`` (= ``mindlin
+    NULL 0 MU``)."""
+
+    keyword: ClassVar[str] = "mindlin"
+
+    @classmethod
+    def from_numbers(cls, nums: list[Any]) -> "Tangential":
+        if len(nums) == 1:
+            return Tangential(cls.keyword, mu=nums[0])
+        return super().from_numbers(nums)
+
+    @classmethod
+    def words(cls, t: "Tangential", units: str) -> str:
+        if t.kt is None and t.xgamma == 0:
+            return f"tangential mindlin {_num(t.mu)}"
+        return super().words(t, units)
+
+
+#: the tangential models by keyword (the registration)
+TANGENTIAL: dict[str, Any] = {c.keyword: c for c in (
+    TangentialNone, LinearNoHistory, LinearHistory, Mindlin, MindlinRescale, MindlinForce,
+    MindlinRescaleForce)}
+TANGENTIAL_MODELS = tuple(TANGENTIAL)
+#: tangential models with an elastic spring (the ones twisting marshall needs)
+SPRING_MODELS = tuple(k for k, c in TANGENTIAL.items() if c.spring)
+
+
+# ----------------------------------------------------------------- rolling, twisting, heat
+
+
+def _check_sds(obj: Any, what: str, fields: tuple[str, str, str], names: tuple[str, str, str]) -> None:
     """Check and store, on the frozen dataclass ``obj``, the three numbers of ``WHAT sds K
     GAMMA MU`` held in ``fields``: the spring K > 0 (the slip update divides by it), the
     dashpot and the limit >= 0; the messages name them ``WHAT sds NAME``."""
     k = _nonneg(f"{what} sds {names[0]}", getattr(obj, fields[0]))
     if k == 0:
         raise ValueError(f"{what} sds {names[0]} must be > 0 (the slip update divides by it)")
-    object.__setattr__(obj, fields[0], k)
+    _set(obj, fields[0], k)
     for field, name in zip(fields[1:], names[1:]):
-        object.__setattr__(obj, field, _nonneg(f"{what} sds {name}", getattr(obj, field)))
+        _set(obj, field, _nonneg(f"{what} sds {name}", getattr(obj, field)))
+
+
+class RollingSDS:
+    """``rolling sds KR GAMMAR MUR`` (spring-dashpot-slider, Luding 2008; Wang et al. 2015):
+    KR [N/m] > 0, GAMMAR [N s/m], MUR >= 0."""
+
+    keyword: ClassVar[str] = "sds"
+    names: ClassVar[tuple[str, str, str]] = ("KR", "GAMMAR", "MUR")
+    fields: ClassVar[tuple[str, str, str]] = ("kr", "gammar", "mur")
+    dims: ClassVar[tuple[str, str, str | None]] = ("stiffness", "damping", None)
+
+    @classmethod
+    def check(cls, r: Any) -> None:
+        _check_sds(r, "rolling", cls.fields, cls.names)
+
+    @classmethod
+    def words(cls, r: Any, units: str, kind: str = "rolling") -> str:
+        nums = [getattr(r, f) for f in cls.fields]
+        return " ".join([kind, cls.keyword] + [_num(x if d is None else convert(x, d, units))
+                                                for x, d in zip(nums, cls.dims)])
+
+
+class TwistingMarshall:
+    """``twisting marshall`` (Marshall, J. Comput. Phys. 228 (2009) 1541): stiffness, damping
+    and limit from the tangential spring; no numbers."""
+
+    keyword: ClassVar[str] = "marshall"
+
+    @classmethod
+    def check(cls, t: "Twisting") -> None:
+        if any(x is not None for x in (t.kt, t.gammat, t.mut)):
+            raise ValueError("twisting marshall takes no numbers (they come from the tangential model)")
+
+    @classmethod
+    def words(cls, t: "Twisting", units: str) -> str:
+        return "twisting marshall"
+
+
+class TwistingSDS(RollingSDS):
+    """``twisting sds KT GAMMAT MUT``: KT [N m/rad] > 0, GAMMAT [N m s], MUT a LENGTH [m] (the
+    torque limit is MUT F0, as native's code)."""
+
+    names: ClassVar[tuple[str, str, str]] = ("KT", "GAMMAT", "MUT")
+    fields: ClassVar[tuple[str, str, str]] = ("kt", "gammat", "mut")
+    dims: ClassVar[tuple[str, str, str | None]] = ("torque_stiffness", "torque_damping", "length")
+
+    @classmethod
+    def check(cls, t: Any) -> None:
+        if any(getattr(t, f) is None for f in cls.fields):
+            raise ValueError("twisting sds needs KT GAMMAT MUT")
+        _check_sds(t, "twisting", cls.fields, cls.names)
+
+    @classmethod
+    def words(cls, t: Any, units: str, kind: str = "twisting") -> str:
+        return super().words(t, units, kind)
+
+
+#: the twisting models by keyword (the registration)
+TWISTING: dict[str, Any] = {c.keyword: c for c in (TwistingMarshall, TwistingSDS)}
+
+
+class HeatArea:
+    """``heat area K``: heat flow Q = K pi a^2 (T_j - T_i), K [W/(m^2 K)] >= 0."""
+
+    keyword: ClassVar[str] = "area"
+
+    @staticmethod
+    def check(k: Any) -> float:
+        return _nonneg("heat area K", k)
+
+    @staticmethod
+    def words(k: float, units: str) -> str:
+        return f"heat area {_num(convert(k, 'conductance', units))}"
+
+
+# ----------------------------------------------------------------- what users build
 
 
 @dataclass(frozen=True)
 class Normal:
     """The normal model: ``hertz`` (Hertz, no cohesion), ``dmt`` or ``jkr`` with the surface
     energy ``W`` [J/m^2] (native's gamma; the work of adhesion is 2W).  Pull-off forces:
-    DMT 4 pi W R*, JKR 3 pi W R* (Derjaguin, Muller & Toporov 1975; Johnson, Kendall & Roberts
-    1971).  The damping law's k_Hertz ignores adhesion, so a calibrated e is that of the Hertz
-    part."""
+    DMT 4 pi W R*, JKR 3 pi W R* (:class:`NormalDMT`, :class:`NormalJKR`).  The damping law's
+    k_Hertz ignores adhesion, so a calibrated e is that of the Hertz part."""
 
     model: str = "hertz"
     W: float | None = None
@@ -63,17 +326,11 @@ class Normal:
             domain.check_choice("normal model", self.model, NORMAL_MODELS)
         except ValueError as err:
             raise ValueError(f"{err}{native_hint(self.model)}") from None
-        if self.model == "hertz":
-            if self.W is not None:
-                raise ValueError("normal hertz takes no surface energy W (dmt W or jkr W do)")
-        elif self.W is None:
-            raise ValueError(f"normal {self.model} needs the surface energy W (J/m^2, >= 0)")
-        else:
-            object.__setattr__(self, "W", _nonneg(f"normal {self.model} W", self.W))
+        NORMAL[self.model].check(self)
 
     @property
     def cohesive(self) -> bool:
-        return self.model != "hertz"
+        return NORMAL[self.model].cohesive
 
     @classmethod
     def from_any(cls, spec: Any) -> "Normal":
@@ -90,8 +347,7 @@ class Normal:
 
     def pair_words(self, E: float, nu: float, units: str) -> str:
         """``hertz/material E NU``, ``dmt E NU W`` or ``jkr E NU W`` of a pair_coeff line."""
-        words = ["hertz/material" if self.model == "hertz" else self.model,
-                 _num(convert(E, "pressure", units)), _num(nu)]
+        words = [NORMAL[self.model].pair_keyword, _num(convert(E, "pressure", units)), _num(nu)]
         if self.cohesive:
             words.append(_num(convert(self.W, "surface_energy", units)))
         return " ".join(words)
@@ -105,13 +361,12 @@ class Normal:
 
 @dataclass(frozen=True)
 class Tangential:
-    """The tangential model (Mindlin 1949; Cundall & Strack 1979 for the linear spring).
-
-    ``model`` in :data:`TANGENTIAL_MODELS`; ``kt``: the spring, N/m for ``linear_history``
-    (required), N/m^2 for the mindlin family (k_t = kt a; None = NULL: k_t = 8 G* a);
-    ``xgamma``: tangential damping eta_t = xgamma eta_n (the law's normal prefactor);
-    ``mu``: Coulomb coefficient.  ``none`` has no force.  ``mindlin`` with kt None and
-    xgamma 0 is written in the short form ``tangential mindlin MU``.
+    """The tangential model: ``model`` in :data:`TANGENTIAL_MODELS` (one class each in
+    :data:`TANGENTIAL`, which checks and writes it); ``kt``: the spring, N/m for
+    ``linear_history`` (required), N/m^2 for the mindlin family (k_t = kt a; None = NULL:
+    k_t = 8 G* a); ``xgamma``: tangential damping eta_t = xgamma eta_n (the law's normal
+    prefactor); ``mu``: Coulomb coefficient.  ``none`` has no force.  ``mindlin`` with kt None
+    and xgamma 0 is written in the short form ``tangential mindlin MU``.
     """
 
     model: str = "none"
@@ -122,20 +377,9 @@ class Tangential:
     def __post_init__(self) -> None:
         domain.check_choice("tangential model", self.model, TANGENTIAL_MODELS)
         m = self.model
-        object.__setattr__(self, "xgamma", _nonneg(f"tangential {m} XGAMMA", self.xgamma))
-        object.__setattr__(self, "mu", domain.check("friction", self.mu, label=f"tangential {m} MU"))
-        if m == "none":
-            if self.kt is not None or self.xgamma or self.mu:
-                raise ValueError("tangential none takes no KT, XGAMMA or MU")
-        elif m == "linear_nohistory":
-            if self.kt is not None:
-                raise ValueError("tangential linear_nohistory takes XGAMMA MU, no spring KT")
-        elif m == "linear_history":
-            if self.kt is None:
-                raise ValueError("tangential linear_history needs the spring KT (N/m, >= 0)")
-            object.__setattr__(self, "kt", _nonneg("tangential linear_history KT", self.kt))
-        elif self.kt is not None:
-            object.__setattr__(self, "kt", _nonneg(f"tangential {m} KT", self.kt))
+        _set(self, "xgamma", _nonneg(f"tangential {m} XGAMMA", self.xgamma))
+        _set(self, "mu", domain.check("friction", self.mu, label=f"tangential {m} MU"))
+        TANGENTIAL[m].check(self)
 
     @classmethod
     def from_any(cls, spec: Any) -> "Tangential":
@@ -151,51 +395,33 @@ class Tangential:
             raise ValueError(f"tangential must be a model name or (model, numbers...); got {spec!r}")
         model, *nums = spec
         domain.check_choice("tangential model", model, TANGENTIAL_MODELS)
+        sub = TANGENTIAL[model]
         nums = [None if (isinstance(x, str) and x.upper() == "NULL") else x for x in nums]
-        want = {"none": 0, "linear_nohistory": 2, "linear_history": 3}.get(model, 3)
-        if model == "mindlin" and len(nums) == 1:
-            return cls("mindlin", mu=nums[0])
-        if len(nums) != want:
-            usage = {0: "", 2: " XGAMMA MU", 3: " KT XGAMMA MU" if model == "linear_history"
-                     else " KT|NULL XGAMMA MU"}[want]
-            raise ValueError(f"tangential {model} takes{usage or ' no numbers'}"
-                             + (" (or the short form: mindlin MU)" if model == "mindlin" else "")
+        if len(nums) != sub.nnumbers and not (sub is Mindlin and len(nums) == 1):
+            raise ValueError(f"tangential {model} takes{sub.usage or ' no numbers'}"
+                             + (" (or the short form: mindlin MU)" if sub is Mindlin else "")
                              + f"; got {len(nums)} number(s)")
-        if want == 2:
-            return cls(model, xgamma=nums[0], mu=nums[1])
-        if want == 3:
-            return cls(model, kt=nums[0], xgamma=nums[1], mu=nums[2])
-        return cls(model)
+        return sub.from_numbers(nums)
 
     @property
     def spring(self) -> bool:
-        return self.model in SPRING_MODELS
+        return TANGENTIAL[self.model].spring
 
     def words(self, units: str) -> str:
-        m = self.model
-        if m == "none":
-            return "tangential none"
-        if m == "mindlin" and self.kt is None and self.xgamma == 0:
-            return f"tangential mindlin {_num(self.mu)}"
-        words = ["tangential", m]
-        if m != "linear_nohistory":
-            dims = "stiffness" if m == "linear_history" else "stiffness_area"
-            words.append("NULL" if self.kt is None else _num(convert(self.kt, dims, units)))
-        return " ".join(words + [_num(self.xgamma), _num(self.mu)])
+        return TANGENTIAL[self.model].words(self, units)
 
 
 @dataclass(frozen=True)
 class Rolling:
-    """Rolling resistance ``sds`` (spring-dashpot-slider, Luding 2008; Wang et al. 2015):
-    spring ``kr`` [N/m] (> 0), dashpot ``gammar`` [N s/m], friction ``mur``; the resisting
-    torque is at most mur R* F0."""
+    """Rolling resistance ``sds`` (:class:`RollingSDS`): spring ``kr`` [N/m] (> 0), dashpot
+    ``gammar`` [N s/m], friction ``mur``; the resisting torque is at most mur R* F0."""
 
     kr: float
     gammar: float
     mur: float
 
     def __post_init__(self) -> None:
-        _set_sds(self, "rolling", ("kr", "gammar", "mur"), ("KR", "GAMMAR", "MUR"))
+        RollingSDS.check(self)
 
     @classmethod
     def from_any(cls, spec: Any) -> "Rolling | None":
@@ -209,15 +435,14 @@ class Rolling:
         raise ValueError(f"rolling must be sds KR GAMMAR MUR; got {spec!r}")
 
     def words(self, units: str) -> str:
-        return (f"rolling sds {_num(convert(self.kr, 'stiffness', units))} "
-                f"{_num(convert(self.gammar, 'damping', units))} {_num(self.mur)}")
+        return RollingSDS.words(self, units)
 
 
 @dataclass(frozen=True)
 class Twisting:
-    """Twisting resistance: ``marshall`` (Marshall 2009; stiffness, damping and limit from the
-    tangential model) or ``sds`` with ``kt`` [N m/rad] (> 0), ``gammat`` [N m s] and ``mut``,
-    a LENGTH [m] (the torque limit is mut F0, as native's code)."""
+    """Twisting resistance: ``marshall`` (:class:`TwistingMarshall`) or ``sds``
+    (:class:`TwistingSDS`) with ``kt`` [N m/rad] (> 0), ``gammat`` [N m s] and ``mut``, a
+    LENGTH [m]."""
 
     model: str = "marshall"
     kt: float | None = None
@@ -225,15 +450,8 @@ class Twisting:
     mut: float | None = None
 
     def __post_init__(self) -> None:
-        domain.check_choice("twisting model", self.model, ("marshall", "sds"))
-        nums = (self.kt, self.gammat, self.mut)
-        if self.model == "marshall":
-            if any(x is not None for x in nums):
-                raise ValueError("twisting marshall takes no numbers (they come from the tangential model)")
-            return
-        if any(x is None for x in nums):
-            raise ValueError("twisting sds needs KT GAMMAT MUT")
-        _set_sds(self, "twisting", ("kt", "gammat", "mut"), ("KT", "GAMMAT", "MUT"))
+        domain.check_choice("twisting model", self.model, tuple(TWISTING))
+        TWISTING[self.model].check(self)
 
     @classmethod
     def from_any(cls, spec: Any) -> "Twisting | None":
@@ -250,11 +468,7 @@ class Twisting:
         raise ValueError(f"twisting must be marshall or sds KT GAMMAT MUT; got {spec!r}")
 
     def words(self, units: str) -> str:
-        if self.model == "marshall":
-            return "twisting marshall"
-        return (f"twisting sds {_num(convert(self.kt, 'torque_stiffness', units))} "
-                f"{_num(convert(self.gammat, 'torque_damping', units))} "
-                f"{_num(convert(self.mut, 'length', units))}")
+        return TWISTING[self.model].words(self, units)
 
 
 @dataclass(frozen=True)
@@ -276,7 +490,7 @@ class SubModels:
             raise ValueError("twisting marshall needs a tangential spring (linear_history or a "
                              f"mindlin model), got tangential {self.tangential.model}")
         if self.heat is not None:
-            object.__setattr__(self, "heat", _nonneg("heat area K", self.heat))
+            _set(self, "heat", HeatArea.check(self.heat))
         if self.cutoff is not None:
             c = _nonneg("cutoff", self.cutoff)
             if c == 0:
@@ -312,7 +526,7 @@ class SubModels:
         words = [law.keywords(units), self.tangential.words(units)]
         words += [m.words(units) for m in (self.rolling, self.twisting) if m is not None]
         if self.heat is not None:
-            words.append(f"heat area {_num(convert(self.heat, 'conductance', units))}")
+            words.append(HeatArea.words(self.heat, units))
         if pair and self.cutoff is not None:
             words.append(f"cutoff {_num(convert(self.cutoff, 'length', units))}")
         return " ".join(words)

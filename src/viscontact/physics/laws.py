@@ -22,7 +22,8 @@ from typing import ClassVar
 
 from . import domain
 
-__all__ = ["ContactLaw", "LawParams", "LAWS", "MODELS", "resolve", "check_finite_nonneg"]
+__all__ = ["ContactLaw", "LawParams", "LAWS", "MODELS", "resolve", "check_finite_nonneg", "exponent",
+           "given_exponent"]
 
 
 @dataclass(frozen=True)
@@ -196,17 +197,24 @@ def lookup(model: str) -> type[ContactLaw]:
     raise ValueError(f"unknown model {model!r}; valid models are: {', '.join(MODELS)}")
 
 
-def exponent(law: type[ContactLaw], p: float | None = None) -> float:
+def exponent(law: type[ContactLaw], p: float | None = None, *, noun: str = "model") -> float:
     """The damping exponent p of ``law`` in F_d = c delta^p d(delta)/dt: its fixed value, or
     the given ``p`` (inside its domain) for the power law; ValueError when p is missing for
-    the power law or given for a law whose exponent is fixed."""
+    the power law or given for a law whose exponent is fixed (the messages call the law a
+    ``noun``).  The one statement of this rule; :func:`given_exponent` is its inverse."""
     if law.p is None:
         if p is None:
-            raise ValueError(f"model power needs the exponent p (in {domain.range_text('p')})")
+            raise ValueError(f"{noun} power needs the exponent p (in {domain.range_text('p')})")
         return domain.check("p", p)
     if p is not None:
-        raise ValueError(f"model {law.name} has a fixed exponent p = {law.p}; p is only for 'power'")
+        raise ValueError(f"{noun} {law.name} has a fixed exponent p = {law.p}; p is only for 'power'")
     return float(law.p)
+
+
+def given_exponent(law: type[ContactLaw], p: float) -> float | None:
+    """The exponent as a user gives it for ``law`` with exponent ``p``: p for the power law,
+    None for a law whose exponent is fixed (``exponent(law, given_exponent(law, p)) == p``)."""
+    return p if law.p is None else None
 
 
 def resolve(model: str, *, beta: float | None = None, p: float | None = None) -> LawParams:

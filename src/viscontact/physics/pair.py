@@ -78,6 +78,12 @@ def effective_modulus(e1: float, nu1: float, e2: float | None = None, nu2: float
 
     With nu in (-1, 0.5], 1 - nu^2 lies in (0, 1], so E* is at least min(E1, E2) / 2 and finite
     (large for nu near -1; k_Hertz is checked against its own domain)."""
+    return 1.0 / compliance(e1, nu1, e2, nu2)
+
+
+def compliance(e1: float, nu1: float, e2: float | None = None, nu2: float | None = None) -> float:
+    """1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 [1/Pa] (Hertz; Johnson, Contact Mechanics, 1985,
+    eq. 4.22); ``e2=None``: a rigid wall."""
     a = domain.check("modulus", e1, label="Young's modulus")
     inv = (1.0 - check_poisson("Poisson ratio", nu1) ** 2) / a
     if e2 is not None:
@@ -85,7 +91,13 @@ def effective_modulus(e1: float, nu1: float, e2: float | None = None, nu2: float
         inv += (1.0 - check_poisson("second Poisson ratio", 0.0 if nu2 is None else nu2) ** 2) / b
     elif nu2 is not None:
         raise ValueError("a second Poisson ratio needs the second Young's modulus too")
-    return 1.0 / inv
+    return inv
+
+
+def shear_compliance(e1: float, nu1: float, e2: float, nu2: float) -> float:
+    """1/G* = (2 - nu1)/G1 + (2 - nu2)/G2 = 2 (2 - nu1)(1 + nu1)/E1 + 2 (2 - nu2)(1 + nu2)/E2
+    [1/Pa], G = E / (2 (1 + nu)) (Mindlin 1949; LAMMPS granular's G* of hertz/material)."""
+    return 2 * (2 - nu1) * (1 + nu1) / e1 + 2 * (2 - nu2) * (1 + nu2) / e2
 
 
 def hertz_stiffness(e_eff: float, r_eff: float) -> float:

@@ -64,16 +64,9 @@ int FixWallViscontact::parse_dim(const std::string &key, const std::string &text
   fail(key + " DIM must be x, y or z, got " + viscontact::quoted(text));
 }
 
-FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), region(nullptr), tmax(1), store(nullptr), nstored(nullptr),
-    energy_on(false),
-    ediss(nullptr), eel(nullptr), heat_on(false)
+/* The wall style and its values (arg[3] on); returns the index of the first keyword after them. */
+int FixWallViscontact::parse_wall(int narg, char **arg)
 {
-  if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
-    fail("requires atom_style sphere (radius, rmass, omega, torque)");
-  if (narg < 4) fail(std::string("missing wall style; usage: ") + SYNTAX);
-
-  // wall geometry
   const std::string style = arg[3];
   int iarg = 4;
   has_lo = has_hi = false;
@@ -111,10 +104,41 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
          "; allowed: xplane yplane zplane (LO HI), zcylinder R or region REGION-ID");
   }
 
-  // materials, motion and the law
-  std::vector<std::string> args(arg + iarg, arg + narg);
-  viscontact::LawKeywords kw;
-  viscontact::NormalParams normal;
+  return iarg;
+}
+
+/* `wiggle DIM A PERIOD` or `shear DIM V` at args[i]; returns the index after it. */
+size_t FixWallViscontact::parse_motion(const std::vector<std::string> &args, size_t i)
+{
+  std::string err;
+  const bool wiggle = args[i] == "wiggle";
+  if (motion == (wiggle ? WIGGLE : SHEAR)) fail(args[i] + " given twice");
+  if (motion != STILL) fail("wiggle and shear cannot be combined: choose one");
+  if (!wiggle) {
+    if (i + 2 >= args.size()) fail("shear needs DIM V (DIM x|y|z, V a velocity)");
+    axis = parse_dim("shear", args[i + 1]);
+    err = viscontact::parse_number("shear V", args[i + 2], ANY_NUMBER, vshear);
+    if (!err.empty()) fail(err);
+    motion = SHEAR;
+    return i + 3;
+  }
+  if (i + 3 >= args.size()) fail("wiggle needs DIM A PERIOD (DIM x|y|z, PERIOD > 0)");
+  axis = parse_dim("wiggle", args[i + 1]);
+  double period = 0.0;
+  err = viscontact::parse_number("wiggle A", args[i + 2], ANY_NUMBER, amplitude);
+  if (err.empty())
+    err = viscontact::parse_number("wiggle PERIOD", args[i + 3], viscontact::POSITIVE_DOMAIN,
+                                   period);
+  if (!err.empty()) fail(err);
+  wfreq = 2.0 * M_PI / period;
+  motion = WIGGLE;
+  return i + 4;
+}
+
+/* The keywords after the wall (materials, motion, the contact model, outputs). */
+void FixWallViscontact::parse_keywords(const std::vector<std::string> &args)
+{
+  viscontact::ContactKeywords kw;
   bool seen_normal = false;
   bool seen_wall = false;
   has_particle = false;
@@ -130,12 +154,12 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
   size_t i = 0;
   while (i < args.size()) {
     std::string err;
-    if (kw.take(args, i, err)) {
+    if (kw.take(args, i, model, err)) {
       if (!err.empty()) fail(err);
     } else if (args[i] == "normal") {
       if (seen_normal) fail("normal given twice");
       seen_normal = true;
-      err = viscontact::parse_wall_normal(args, i, normal);
+      err = viscontact::parse_wall_normal(args, i, model.normal);
       if (!err.empty()) fail(err);
     } else if (args[i] == "wall_material") {
       if (seen_wall) fail("wall_material given twice");
@@ -160,29 +184,7 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       has_particle = true;
       i += 3;
     } else if (args[i] == "wiggle" || args[i] == "shear") {
-      const bool wiggle = args[i] == "wiggle";
-      if (motion == (wiggle ? WIGGLE : SHEAR)) fail(args[i] + " given twice");
-      if (motion != STILL) fail("wiggle and shear cannot be combined: choose one");
-      if (!wiggle) {
-        if (i + 2 >= args.size()) fail("shear needs DIM V (DIM x|y|z, V a velocity)");
-        axis = parse_dim("shear", args[i + 1]);
-        err = viscontact::parse_number("shear V", args[i + 2], ANY_NUMBER, vshear);
-        if (!err.empty()) fail(err);
-        motion = SHEAR;
-        i += 3;
-        continue;
-      }
-      if (i + 3 >= args.size()) fail("wiggle needs DIM A PERIOD (DIM x|y|z, PERIOD > 0)");
-      axis = parse_dim("wiggle", args[i + 1]);
-      double period = 0.0;
-      err = viscontact::parse_number("wiggle A", args[i + 2], ANY_NUMBER, amplitude);
-      if (err.empty())
-        err = viscontact::parse_number("wiggle PERIOD", args[i + 3], viscontact::POSITIVE_DOMAIN,
-                                       period);
-      if (!err.empty()) fail(err);
-      wfreq = 2.0 * M_PI / period;
-      motion = WIGGLE;
-      i += 4;
+      i = parse_motion(args, i);
     } else if (args[i] == "temperature") {
       if (has_twall) fail("temperature given twice");
       if (i + 1 >= args.size())
@@ -203,17 +205,31 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       peratom_freq = 1;
       i += 1;
     } else {
-      fail("unknown keyword " + viscontact::quoted(args[i]) + "; allowed: " + KEYWORDS);
+      fail("unknown keyword " + viscontact::quoted(args[i]) + "; allowed: " + KEYWORDS +
+           viscontact::native_hint(args, i));
     }
   }
   if (!seen_wall) fail("missing wall_material (E NU | rigid)");
-  const std::string err = kw.finish(normal.kind);
+  const std::string err = kw.finish(model);
   if (!err.empty()) fail(err);
-  model = kw.model(normal);
-  heat_on = model.heat.kind != viscontact::HeatKind::None;
+  model.setup();
+  heat_on = model.conducts_heat();
   if (heat_on && !has_twall)
     fail("heat area needs the wall temperature: temperature T or temperature v_NAME");
   if (!heat_on && has_twall) fail("temperature is only used with heat area K");
+}
+
+FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), region(nullptr), tmax(1), store(nullptr), nstored(nullptr),
+    energy_on(false), ediss(nullptr), eel(nullptr), heat_on(false)
+{
+  if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
+    fail("requires atom_style sphere (radius, rmass, omega, torque)");
+  if (narg < 4) fail(std::string("missing wall style; usage: ") + SYNTAX);
+
+  const int iarg = parse_wall(narg, arg);
+  parse_keywords(std::vector<std::string>(arg + iarg, arg + narg));
+  const std::string style = arg[3];
 
   if (motion != STILL) {
     const char *what = motion == WIGGLE ? "wiggle" : "shear";
@@ -324,8 +340,8 @@ void FixWallViscontact::init()
              std::to_string(t) + " " + std::to_string(t));
       continue;    // an error if it ever touches the wall
     }
-    type_model[t].law.Estar = viscontact::mix_Estar(E, nu, Ewall, wall_nu);
-    type_model[t].law.Gstar = viscontact::mix_Gstar(E, nu, Ewall, wall_nu);
+    type_model[t].set_moduli(viscontact::mix_Estar(E, nu, Ewall, wall_nu),
+                             viscontact::mix_Gstar(E, nu, Ewall, wall_nu));
     type_model[t].setup();
     // the energy bookkeeping only with a compute viscontact/energy (as pair viscontact); its
     // history slots stay in the layout either way (restart files and migration unchanged)
@@ -345,7 +361,7 @@ const viscontact::ContactCoeffs &FixWallViscontact::coeffs_lookup(int type, doub
       static_cast<uint64_t>(type) * 0x165667B19E3779F9ULL;
   Coeffs &c = cache[(key * 0xD6E8FEB86659FD93ULL) >> (64 - CACHE_BITS)];
   if (c.type != type || c.m != m || c.r != r) {    // wall: m* = m, r = R* (10.8)
-    c.cc = viscontact::contact_coeffs(type_model[type].law, m, r);
+    c.cc = type_model[type].coeffs(m, r);
     if (!viscontact::coeffs_finite(c.cc))
       error->one(FLERR, std::string(PREFIX) + "a sphere of type " + std::to_string(type) +
                             " gets " + viscontact::describe_coeffs(c.cc) + "; the values are "
@@ -495,6 +511,7 @@ void FixWallViscontact::contact(int i, double *h, const Touch &c, bool update_hi
   }
   g.wall = true;
   g.coeffs = &coeffs(type, g.meff, g.reff);
+  if (t0_restart && h[0] != 0.0) m.relaxation_from_start_time(h, *g.coeffs, t_now);
 
   viscontact::ContactResult res;
   m.evaluate(g, h, update_history, res);
@@ -528,6 +545,22 @@ void FixWallViscontact::contact(int i, double *h, const Touch &c, bool update_hi
   }
 }
 
+/* The wall's position (wlo, whi) and velocity (vplane) this step: planes and cylinder, from
+   wiggle or shear. */
+void FixWallViscontact::wall_motion(double &wlo, double &whi, double vplane[3]) const
+{
+  if (motion == WIGGLE) {
+    const double arg = wfreq * static_cast<double>(update->ntimestep - time_origin) * update->dt;
+    if (wallstyle == axis) {
+      wlo = lo + amplitude - amplitude * std::cos(arg);
+      whi = hi + amplitude - amplitude * std::cos(arg);
+    }
+    vplane[axis] = amplitude * wfreq * std::sin(arg);
+  } else if (motion == SHEAR) {
+    vplane[axis] = vshear;
+  }
+}
+
 void FixWallViscontact::post_force(int /*vflag*/)
 {
   // history advances only on regular steps (not in a run's setup), as LAMMPS granular
@@ -541,19 +574,9 @@ void FixWallViscontact::post_force(int /*vflag*/)
   if (neighbor->ago == 0) masses.refresh(atom);    // rigid-body masses of the local atoms
   if (heat_on && !tstr.empty()) twall = input->variable->compute_equal(tvar);
 
-  // the wall's position and velocity this step (planes, cylinder)
   double wlo = lo, whi = hi;
   double vplane[3] = {0.0, 0.0, 0.0};
-  if (motion == WIGGLE) {
-    const double arg = wfreq * static_cast<double>(update->ntimestep - time_origin) * update->dt;
-    if (wallstyle == axis) {
-      wlo = lo + amplitude - amplitude * std::cos(arg);
-      whi = hi + amplitude - amplitude * std::cos(arg);
-    }
-    vplane[axis] = amplitude * wfreq * std::sin(arg);
-  } else if (motion == SHEAR) {
-    vplane[axis] = vshear;
-  }
+  wall_motion(wlo, whi, vplane);
   // a region's motion: its transform and its velocity over the last step (once per step for
   // all fixes using the region)
   region_moving = region && region->dynamic_check();
@@ -629,6 +652,7 @@ void FixWallViscontact::post_force(int /*vflag*/)
     }
     store[i][0] = nstored[i] = n;
   }
+  t0_restart = false;    // converted in the first force call after read_restart
 }
 
 /* Does face c touch the sphere of radius rad (ContactModel::touching)?  R* (a division) only
@@ -637,7 +661,7 @@ void FixWallViscontact::post_force(int /*vflag*/)
 bool FixWallViscontact::touching(const viscontact::ContactModel &m, const Touch &c, double rad,
                                  bool touched) const
 {
-  if (touched && m.normal.kind == viscontact::NormalKind::JKR)
+  if (touched && m.beyond_contact())
     return m.touching(c.r * c.r, rad, effective_radius(rad, c.rwall), true);
   return c.r * c.r < rad * rad;
 }
@@ -695,24 +719,43 @@ double FixWallViscontact::compute_vector(int k)
   return wallforce_all[k];
 }
 
-/* ---- global restart record: the wiggle origin and a region's motion state --------------- */
+/* ---- global restart record: the format (as -3), the wiggle origin and a region's motion
+   state.  Format 2 (viscontact before 2026-11-27) began with the wiggle origin (a step, >= 0)
+   and its per-atom histories hold Jian's start time t0 where format 3 holds the relaxation g:
+   the first force call converts them (t0_restart). ---- */
+
+static constexpr bigint WALL_RESTART_FORMAT = 3;
 
 void FixWallViscontact::write_restart(FILE *fp)
 {
   if (comm->me != 0) return;
   int len = 0;
   if (region) region->length_restart_string(len);
-  const int size = static_cast<int>(sizeof(bigint)) + len;
+  const int size = static_cast<int>(2 * sizeof(bigint)) + len;
+  const bigint marker = -WALL_RESTART_FORMAT;
   fwrite(&size, sizeof(int), 1, fp);
+  fwrite(&marker, sizeof(bigint), 1, fp);
   fwrite(&time_origin, sizeof(bigint), 1, fp);
   if (region) region->write_restart(fp);
 }
 
 void FixWallViscontact::restart(char *buf)
 {
-  std::memcpy(&time_origin, buf, sizeof(bigint));
+  bigint first;
+  std::memcpy(&first, buf, sizeof(bigint));
+  int n = static_cast<int>(sizeof(bigint));
+  if (first >= 0) {    // format 2: the wiggle origin first
+    time_origin = first;
+    t0_restart = true;
+  } else if (first == -WALL_RESTART_FORMAT) {
+    std::memcpy(&time_origin, buf + n, sizeof(bigint));
+    n += static_cast<int>(sizeof(bigint));
+  } else {
+    fail("this restart file holds wall format " + std::to_string(-first) + "; this viscontact "
+         "reads formats 2 and " + std::to_string(WALL_RESTART_FORMAT) + ": define the fix "
+         "again after read_restart (its contacts then start afresh)");
+  }
   if (region) {
-    int n = static_cast<int>(sizeof(bigint));
     if (!region->restart(buf, n)) {
       if (comm->me == 0)
         error->warning(FLERR, std::string(PREFIX) + "region " + idregion +

@@ -32,7 +32,7 @@
      is an error.
 
    Contact model: the one viscontact contact step (viscontact::ContactModel::evaluate,
-   viscontact_model.h; the same keywords as pair viscontact, viscontact_keywords.h) with the
+   viscontact_model.h; the same keywords as pair viscontact, ContactKeywords) with the
    wall as body j: r_j = 0 (R* from the curvature above), m* = m_i (the body's mass in a rigid
    body), w_j = 0, v_j = the wall velocity, lever arm r_i, T_j = the wall temperature.  A jkr
    contact with a plane or the cylinder lives until pull-off (delta > -delta_c(R*)); with a
@@ -158,6 +158,7 @@ class FixWallViscontact : public Fix, public viscontact::EnergySource {
   int *nstored;                // per atom: its stored contacts (store[i][0], compact: the
                                // atoms away from the wall do not touch their store rows)
   bool region_moving = false;  // the region's dynamic_check() this step
+  bool t0_restart = false;     // a format-2 restart: the stored Jian slots hold t0 (restart())
   std::vector<char> goes_on;   // per stored contact of one atom: touched again this step
   std::vector<int> fresh;      // this step's touches that are new contacts
   double *find_slot(int i, int nold, int iwall);
@@ -183,10 +184,14 @@ class FixWallViscontact : public Fix, public viscontact::EnergySource {
   };
   std::vector<Touch> touches;
   void find_touches(int i, double wlo, double whi, const double vplane[3]);
+  void wall_motion(double &wlo, double &whi, double vplane[3]) const;
   bool touching(const viscontact::ContactModel &m, const Touch &c, double rad,
                 bool touched) const;
 
   [[noreturn]] void fail(const std::string &msg);
+  int parse_wall(int narg, char **arg);
+  void parse_keywords(const std::vector<std::string> &args);
+  size_t parse_motion(const std::vector<std::string> &args, size_t i);
   double parse_coordinate(const std::string &key, const char *text, bool &present);
   int parse_dim(const std::string &key, const std::string &text);
   void contact(int i, double *hist, const Touch &c, bool update_history, double t_now);

@@ -120,13 +120,12 @@ void PairViscontact::settings(int narg, char **arg)
 void PairViscontact::parse_coeff(int narg, char **arg, vc::ContactModel &m, double &E, double &nu,
                                  double &cut)
 {
-  std::vector<std::string> args(arg, arg + narg);
-  vc::NormalParams np;
+  vc::Args args(arg, arg + narg);
   size_t i = 2;
-  std::string err = vc::parse_normal(args, i, np, E, nu);
+  std::string err = vc::parse_pair_normal(args, i, m.normal, E, nu);
   if (!err.empty()) fail("pair viscontact: " + err);
 
-  vc::LawKeywords kw;
+  vc::ContactKeywords kw;
   bool seen_cut = false;
   cut = -1.0;
   while (i < args.size()) {
@@ -139,17 +138,16 @@ void PairViscontact::parse_coeff(int narg, char **arg, vc::ContactModel &m, doub
       i += 2;
       continue;
     }
-    if (!kw.take(args, i, err))
+    if (!kw.take(args, i, m, err))
       fail(fmt::format("pair viscontact: unknown keyword {} (allowed after the normal model: "
                        "damping, end, tangential, rolling, twisting, heat, cutoff)",
                        vc::quoted(args[i])) + vc::native_hint(args, i));
     if (!err.empty()) fail("pair viscontact: " + err);
   }
-  err = kw.finish(np.kind);
+  err = kw.finish(m);
   if (!err.empty()) fail("pair viscontact: " + err);
-  m = kw.model(np);
-  m.law.Estar = vc::mix_Estar(E, nu, E, nu);
-  m.law.Gstar = vc::mix_Gstar(E, nu, E, nu);
+  m.set_moduli(vc::mix_Estar(E, nu, E, nu), vc::mix_Gstar(E, nu, E, nu));
+  m.setup();
 }
 
 void PairViscontact::coeff(int narg, char **arg)
@@ -193,7 +191,7 @@ void PairViscontact::init_style()
   // heat area: all type pairs or none (as native), per-atom temperature and heatflow
   const int n = atom->ntypes;
   int nheat = 0, nset = 0;
-  layout_xi = layout_aprev = layout_roll = layout_twist = layout_t0 = false;
+  layout = vc::HistoryLayout();
   // energy bookkeeping (history slots, per-atom tallies) only with a compute viscontact/energy
   energy_on = !modify->get_compute_by_style("^viscontact/energy$").empty();
   for (int i = 1; i <= n; i++)
@@ -204,12 +202,8 @@ void PairViscontact::init_style()
       if (!setflag[i][j]) continue;
       const vc::ContactModel &m = models[i][j];
       nset++;
-      if (m.heat.kind != vc::HeatKind::None) nheat++;
-      layout_xi = layout_xi || m.has_tangential_history();
-      layout_aprev = layout_aprev || m.needs_aprev();
-      layout_t0 = layout_t0 || vc::LAW_TABLE[static_cast<int>(m.law.law)].needs_beta;
-      layout_roll = layout_roll || m.rolling.kind != vc::RollingKind::None;
-      layout_twist = layout_twist || m.twisting.kind != vc::TwistingKind::None;
+      if (m.conducts_heat()) nheat++;
+      layout.merge(m.layout());
       if (m.beyond_contact()) beyond_contact = 1;
     }
   }
@@ -220,19 +214,23 @@ void PairViscontact::init_style()
     fail("pair viscontact: heat area needs per-atom temperature and heatflow (fix property/atom "
          "temperature heatflow, integrated by fix heat/flow)");
   if (!heat_on) viscontact::refuse_heat(lmp, "pair viscontact");
-  for (int i = 1; i <= n; i++)
-    for (int j = 1; j <= n; j++)
-      if (setflag[i][j]) models[i][j].setup(layout_xi, layout_aprev, layout_roll, layout_twist, layout_t0);
   {
-    vc::ContactModel probe;
+    vc::ContactModel probe;    // the common layout's size
     probe.track_energy = energy_on;
-    probe.setup(layout_xi, layout_aprev, layout_roll, layout_twist, layout_t0);
+    probe.setup(layout);
     dnum = probe.history_size();
     if (dnum > MAX_HISTORY)    // single()'s copy of a history holds MAX_HISTORY values
       error->all(FLERR, fmt::format("pair viscontact: internal: history of {} values exceeds {}",
                                     dnum, static_cast<int>(MAX_HISTORY)));
-    hsign.assign(dnum, 1.0);
-    probe.history_signs(hsign.data());
+  }
+  // every type pair in the common layout; the signs of an i <-> j flip from all of them
+  hsign.assign(dnum, 1.0);
+  for (int i = 1; i <= n; i++) {
+    for (int j = 1; j <= n; j++) {
+      if (!setflag[i][j]) continue;
+      models[i][j].setup(layout);
+      models[i][j].history_signs(hsign.data());
+    }
   }
   if (history_lost)
     fail("pair viscontact: its contact-history fix " + std::string(HISTORY_ID) + " was deleted "
@@ -329,43 +327,14 @@ void PairViscontact::check_radii() const
 double PairViscontact::init_one(int i, int j)
 {
   if (setflag[i][j] == 0) {
-    const vc::ContactModel &a = models[i][i], &b = models[j][j];
-    std::string diff;
-    if (a.normal.kind != b.normal.kind) diff = "normal model";
-    else if (a.law.law != b.law.law || a.law.p != b.law.p) diff = "damping law";
-    else if (a.law.by_alpha != b.law.by_alpha) diff = "damping form (alpha or c0)";
-    else if (a.tangential.kind != b.tangential.kind) diff = "tangential model";
-    else if (a.rolling.kind != b.rolling.kind) diff = "rolling model";
-    else if (a.twisting.kind != b.twisting.kind) diff = "twisting model";
-    else if (a.heat.kind != b.heat.kind) diff = "heat model";
+    vc::ContactModel m;
+    const std::string diff = vc::ContactModel::mix(models[i][i], models[j][j], m);
     if (!diff.empty())
       fail(fmt::format("pair viscontact: types {} and {} use a different {}; give pair_coeff {} {} "
                        "explicitly", i, j, diff, i, j));
-    vc::ContactModel m = a;
-    auto geo = [](double x, double y) { return std::sqrt(x * y); };
-    vc::LawParams &l = m.law;
-    l.alpha = geo(a.law.alpha, b.law.alpha);
-    l.vref = geo(a.law.vref, b.law.vref);
-    l.beta = geo(a.law.beta, b.law.beta);
-    l.c0 = geo(a.law.c0, b.law.c0);
-    l.tau = geo(a.law.tau, b.law.tau);
-    l.mu = geo(a.law.mu, b.law.mu);
-    l.clamp = a.law.clamp || b.law.clamp;    // native: the larger limit_damping
-    l.Estar = vc::mix_Estar(Ein[i][i], nuin[i][i], Ein[j][j], nuin[j][j]);
-    l.Gstar = vc::mix_Gstar(Ein[i][i], nuin[i][i], Ein[j][j], nuin[j][j]);
-    m.normal.W = geo(a.normal.W, b.normal.W);
-    m.tangential.kt_null = a.tangential.kt_null || b.tangential.kt_null;
-    m.tangential.kt = m.tangential.kt_null ? 0.0 : geo(a.tangential.kt, b.tangential.kt);
-    m.tangential.xgamma = geo(a.tangential.xgamma, b.tangential.xgamma);
-    m.tangential.mu = geo(a.tangential.mu, b.tangential.mu);
-    m.rolling.k = geo(a.rolling.k, b.rolling.k);
-    m.rolling.gamma = geo(a.rolling.gamma, b.rolling.gamma);
-    m.rolling.mu = geo(a.rolling.mu, b.rolling.mu);
-    m.twisting.k = geo(a.twisting.k, b.twisting.k);
-    m.twisting.gamma = geo(a.twisting.gamma, b.twisting.gamma);
-    m.twisting.mu = geo(a.twisting.mu, b.twisting.mu);
-    m.heat.k = geo(a.heat.k, b.heat.k);
-    m.setup(layout_xi, layout_aprev, layout_roll, layout_twist, layout_t0);
+    m.set_moduli(vc::mix_Estar(Ein[i][i], nuin[i][i], Ein[j][j], nuin[j][j]),
+                 vc::mix_Gstar(Ein[i][i], nuin[i][i], Ein[j][j], nuin[j][j]));
+    m.setup(layout);
     models[i][j] = m;
     cut_user[i][j] = MAX(cut_user[i][i], cut_user[j][j]);
   }
@@ -433,7 +402,7 @@ const vc::ContactCoeffs &PairViscontact::coeffs_lookup(int i, int j, int itype, 
                       * 0xC2B2AE3D27D4EB4FULL)) * 0x165667B19E3779F9ULL;
   CoeffCache &e = coeff_cache[h >> (64 - COEFF_CACHE_BITS)];
   if (e.itype != itype || e.jtype != jtype || e.meff != meff || e.reff != reff) {
-    e.cc = vc::contact_coeffs(models[itype][jtype].law, meff, reff);
+    e.cc = models[itype][jtype].coeffs(meff, reff);
     if (!vc::coeffs_finite(e.cc))
       error->one(FLERR, fmt::format("pair viscontact: the contact of atoms {} and {} (types "
                  "{} {}) has {}; the pair_coeff values are too extreme for these sizes and "
@@ -449,11 +418,51 @@ const vc::ContactCoeffs &PairViscontact::coeffs_lookup(int i, int j, int itype, 
   return e.cc;
 }
 
+/* At each neighbour-list build and at the first step of a run (`run ... pre no` builds
+   nothing): the radii against the cutoff; at each build, the rigid-body masses. */
+void PairViscontact::refresh_atoms()
+{
+  if (neighbor->ago == 0 || update->firststep != radii_checked_run[0] ||
+      update->laststep != radii_checked_run[1]) {
+    check_radii();
+    radii_checked_run[0] = update->firststep;
+    radii_checked_run[1] = update->laststep;
+  }
+  if (neighbor->ago == 0 && masses.refresh(atom)) {
+    masses.grow(atom->nmax);
+    comm->forward_comm(this);
+  }
+}
+
+/* One contact's force, torques and heat flow to i and (both_sides) to j. */
+VISCONTACT_ALWAYS_INLINE void PairViscontact::apply(int i, int j, bool both_sides,
+                                                    const vc::ContactResult &res, double *heatflow)
+{
+  double **f = atom->f, **torque = atom->torque;
+  const double *F = res.force;
+  f[i][0] += F[0];
+  f[i][1] += F[1];
+  f[i][2] += F[2];
+  torque[i][0] += res.torque_i[0];
+  torque[i][1] += res.torque_i[1];
+  torque[i][2] += res.torque_i[2];
+  if (heatflow) heatflow[i] += res.heat;
+  if (both_sides) {
+    f[j][0] -= F[0];
+    f[j][1] -= F[1];
+    f[j][2] -= F[2];
+    torque[j][0] += res.torque_j[0];
+    torque[j][1] += res.torque_j[1];
+    torque[j][2] += res.torque_j[2];
+    if (heatflow) heatflow[j] -= res.heat;
+  }
+}
+
 void PairViscontact::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
 
-  double **x = atom->x, **f = atom->f, **torque = atom->torque;
+  double **x = atom->x;
   const double *radius = atom->radius, *rmass = atom->rmass;
   const int *type = atom->type;
   const int nlocal = atom->nlocal;
@@ -463,19 +472,7 @@ void PairViscontact::compute(int eflag, int vflag)
   FixViscontactHistory *fh = (fix_history && fix_history->ready()) ? fix_history : nullptr;
   if (!fh) fail("pair viscontact: contact history is not set up (internal error)");
   const int *mask = atom->mask;
-  if (neighbor->ago == 0 || update->firststep != radii_checked_run[0] ||
-      update->laststep != radii_checked_run[1]) {
-    // at each build, and at the first step of a run (`run ... pre no` builds nothing)
-    check_radii();
-    radii_checked_run[0] = update->firststep;
-    radii_checked_run[1] = update->laststep;
-  }
-  if (neighbor->ago == 0) {
-    if (masses.refresh(atom)) {
-      masses.grow(atom->nmax);
-      comm->forward_comm(this);
-    }
-  }
+  refresh_atoms();
   double *heatflow = heat_on ? atom->heatflow : nullptr;
   EnergyTally *tally = energy_begin();
   const double *special_lj = force->special_lj;
@@ -531,6 +528,7 @@ void PairViscontact::compute(int eflag, int vflag)
       // setup too, and keeps what setup writes (the Coulomb caps): native pair granular marks
       // it touching there, so a jkr contact stretched in the first step keeps its attraction
       if (!fl[jj]) h[0] = 0.0;
+      else if (t0_restart) m.relaxation_from_start_time(h, *g.coeffs, g.t_now);
       m.evaluate(g, h, history_update, res);
       fl[jj] = 1;
       if (factor_lj != 1.0) res.scale(factor_lj);
@@ -539,29 +537,16 @@ void PairViscontact::compute(int eflag, int vflag)
                    "is not finite (overlap {}); check the time step and the pair_coeff values",
                    atom->tag[i], atom->tag[j], g.delta));
 
-      const double *F = res.force;
-      f[i][0] += F[0];
-      f[i][1] += F[1];
-      f[i][2] += F[2];
-      torque[i][0] += res.torque_i[0];
-      torque[i][1] += res.torque_i[1];
-      torque[i][2] += res.torque_i[2];
-      if (heatflow) heatflow[i] += res.heat;
-      if (newton_pair || j < nlocal) {
-        f[j][0] -= F[0];
-        f[j][1] -= F[1];
-        f[j][2] -= F[2];
-        torque[j][0] += res.torque_j[0];
-        torque[j][1] += res.torque_j[1];
-        torque[j][2] += res.torque_j[2];
-        if (heatflow) heatflow[j] -= res.heat;
-      }
+      apply(i, j, newton_pair || j < nlocal, res, heatflow);
       // (a run's setup: its elastic energies only, the state the run starts from)
       if (tally) tally->add_pair(i, j, nlocal, newton_pair, res);
-      if (evflag) ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, F[0], F[1], F[2], dx[0], dx[1], dx[2]);
+      if (evflag)
+        ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, res.force[0], res.force[1], res.force[2],
+                     dx[0], dx[1], dx[2]);
     }
   }
   if (tally) energy_end(tally, history_update);
+  t0_restart = false;    // converted in the first force call after read_restart
 }
 
 /* One pair for compute pair/local: returns 0 (no energy), fforce = F_ne / r (the elastic normal
@@ -618,10 +603,37 @@ double PairViscontact::single(int i, int j, int itype, int jtype, double rsq, do
   return 0.0;
 }
 
-/* ---- restart: the coefficients as given, per set type pair ---- */
+/* ---- restart: per set type pair E, nu, the cutoff and the sub-models' records (by name, with
+   their coefficients and versions, viscontact_submodel.h); format 2 (the 30 values of
+   viscontact 2026-11, f0c8c3f) is still read ---- */
 
-static constexpr int NRESTART = 30;
-static constexpr int RESTART_VERSION = 2;
+static constexpr int RESTART_VERSION = 3;
+static constexpr int NRESTART_V2 = 30;
+
+/* Format 2's 30 values of one type pair as the sub-models' records (the kinds' enum orders
+   then are the variants' orders now). */
+static std::vector<vc::Record> records_v2(const double *b)
+{
+  auto rec = [](const auto *kind, const char *name, int index, std::vector<double> values) {
+    const std::vector<std::string> names = vc::alternative_names(kind);
+    const std::string alt = index >= 0 && index < (int) names.size() ? names[index] : "?";
+    return vc::Record{std::string(name) + " " + alt, 1, std::move(values)};
+  };
+  const int normal = (int) b[13], tang = (int) b[15], roll = (int) b[20], twist = (int) b[24];
+  const std::vector<double> none;
+  std::vector<vc::Record> r;
+  r.push_back(rec((vc::NormalModel *) nullptr, "normal", normal, normal ? std::vector<double>{b[14]} : none));
+  r.push_back({std::string("damping ") + vc::law_name(static_cast<vc::Law>((int) b[0])), 1,
+               {b[1], b[2], b[3], b[4], b[5], b[6], b[7], b[8]}});
+  r.push_back(rec((vc::TangentialModel *) nullptr, "tangential", tang,
+                  tang == 0 ? none : tang == 1 ? std::vector<double>{b[18], b[19]}
+                                               : std::vector<double>{b[16], b[17], b[18], b[19]}));
+  r.push_back(rec((vc::RollingModel *) nullptr, "rolling", roll, roll ? std::vector<double>{b[21], b[22], b[23]} : none));
+  r.push_back(rec((vc::TwistingModel *) nullptr, "twisting", twist,
+                  twist == 2 ? std::vector<double>{b[25], b[26], b[27]} : none));
+  r.push_back(rec((vc::HeatModel *) nullptr, "heat", (int) b[28], b[28] != 0.0 ? std::vector<double>{b[29]} : none));
+  return r;
+}
 
 void PairViscontact::write_restart(FILE *fp)
 {
@@ -629,23 +641,37 @@ void PairViscontact::write_restart(FILE *fp)
   for (int i = 1; i <= atom->ntypes; i++) {
     for (int j = i; j <= atom->ntypes; j++) {
       fwrite(&setflag[i][j], sizeof(int), 1, fp);
-      if (setflag[i][j]) {
-        const vc::ContactModel &m = models[i][j];
-        const vc::LawParams &lp = m.law;
-        const double buf[NRESTART] = {
-            (double) static_cast<int>(lp.law), lp.p, lp.by_alpha ? 1.0 : 0.0, lp.alpha, lp.vref,
-            lp.beta, lp.c0, lp.tau, lp.clamp ? 1.0 : 0.0, lp.friction ? 1.0 : 0.0, lp.mu,
-            Ein[i][j], nuin[i][j], (double) static_cast<int>(m.normal.kind), m.normal.W,
-            (double) static_cast<int>(m.tangential.kind), m.tangential.kt,
-            m.tangential.kt_null ? 1.0 : 0.0, m.tangential.xgamma, m.tangential.mu,
-            (double) static_cast<int>(m.rolling.kind), m.rolling.k, m.rolling.gamma, m.rolling.mu,
-            (double) static_cast<int>(m.twisting.kind), m.twisting.k, m.twisting.gamma,
-            m.twisting.mu, (double) static_cast<int>(m.heat.kind), m.heat.k};
-        fwrite(buf, sizeof(double), NRESTART, fp);
-        fwrite(&cut_user[i][j], sizeof(double), 1, fp);
-      }
+      if (!setflag[i][j]) continue;
+      const double head[3] = {Ein[i][j], nuin[i][j], cut_user[i][j]};
+      fwrite(head, sizeof(double), 3, fp);
+      vc::RecordWriter w;
+      for (const vc::Record &r : models[i][j].records()) w.add(r);
+      const int nbytes = static_cast<int>(w.bytes.size());
+      fwrite(&nbytes, sizeof(int), 1, fp);
+      fwrite(w.bytes.data(), 1, w.bytes.size(), fp);
     }
   }
+}
+
+/* One set type pair's record of format 3 (rank 0 reads, all get it): E, nu, cutoff, records. */
+std::vector<vc::Record> PairViscontact::read_pair_record(FILE *fp, double head[3])
+{
+  const int me = comm->me;
+  int nbytes = 0;
+  if (me == 0) {
+    utils::sfread(FLERR, head, sizeof(double), 3, fp, nullptr, error);
+    utils::sfread(FLERR, &nbytes, sizeof(int), 1, fp, nullptr, error);
+  }
+  MPI_Bcast(head, 3, MPI_DOUBLE, 0, world);
+  MPI_Bcast(&nbytes, 1, MPI_INT, 0, world);
+  std::vector<char> bytes(nbytes > 0 ? nbytes : 0);
+  if (me == 0 && nbytes > 0) utils::sfread(FLERR, bytes.data(), 1, nbytes, fp, nullptr, error);
+  if (nbytes > 0) MPI_Bcast(bytes.data(), nbytes, MPI_CHAR, 0, world);
+  std::vector<vc::Record> records;
+  vc::RecordReader reader(bytes.data(), bytes.size());
+  vc::Record r;
+  while (reader.next(r)) records.push_back(r);
+  return records;
 }
 
 void PairViscontact::read_restart(FILE *fp)
@@ -657,48 +683,31 @@ void PairViscontact::read_restart(FILE *fp)
     for (int j = i; j <= atom->ntypes; j++) {
       if (me == 0) utils::sfread(FLERR, &setflag[i][j], sizeof(int), 1, fp, nullptr, error);
       MPI_Bcast(&setflag[i][j], 1, MPI_INT, 0, world);
-      if (setflag[i][j]) {
-        double buf[NRESTART + 1];
-        if (me == 0) utils::sfread(FLERR, buf, sizeof(double), NRESTART + 1, fp, nullptr, error);
-        MPI_Bcast(buf, NRESTART + 1, MPI_DOUBLE, 0, world);
-        vc::ContactModel m;
-        vc::LawParams &lp = m.law;
-        lp.law = static_cast<vc::Law>((int) buf[0]);
-        lp.p = buf[1];
-        lp.by_alpha = buf[2] != 0.0;
-        lp.alpha = buf[3];
-        lp.vref = buf[4];
-        lp.beta = buf[5];
-        lp.c0 = buf[6];
-        lp.tau = buf[7];
-        lp.clamp = buf[8] != 0.0;
-        lp.friction = buf[9] != 0.0;
-        lp.mu = buf[10];
-        Ein[i][j] = Ein[j][i] = buf[11];
-        nuin[i][j] = nuin[j][i] = buf[12];
-        lp.Estar = vc::mix_Estar(buf[11], buf[12], buf[11], buf[12]);
-        lp.Gstar = vc::mix_Gstar(buf[11], buf[12], buf[11], buf[12]);
-        m.normal.kind = static_cast<vc::NormalKind>((int) buf[13]);
-        m.normal.W = buf[14];
-        m.tangential.kind = static_cast<vc::TangentialKind>((int) buf[15]);
-        m.tangential.kt = buf[16];
-        m.tangential.kt_null = buf[17] != 0.0;
-        m.tangential.xgamma = buf[18];
-        m.tangential.mu = buf[19];
-        m.rolling.kind = static_cast<vc::RollingKind>((int) buf[20]);
-        m.rolling.k = buf[21];
-        m.rolling.gamma = buf[22];
-        m.rolling.mu = buf[23];
-        m.twisting.kind = static_cast<vc::TwistingKind>((int) buf[24]);
-        m.twisting.k = buf[25];
-        m.twisting.gamma = buf[26];
-        m.twisting.mu = buf[27];
-        m.heat.kind = static_cast<vc::HeatKind>((int) buf[28]);
-        m.heat.k = buf[29];
-        m.setup();
-        models[i][j] = models[j][i] = m;
-        cut_user[i][j] = cut_user[j][i] = buf[NRESTART];
+      if (!setflag[i][j]) continue;
+      double head[3];
+      std::vector<vc::Record> records;
+      if (restart_format == 2) {
+        double buf[NRESTART_V2 + 1];
+        if (me == 0) utils::sfread(FLERR, buf, sizeof(double), NRESTART_V2 + 1, fp, nullptr, error);
+        MPI_Bcast(buf, NRESTART_V2 + 1, MPI_DOUBLE, 0, world);
+        records = records_v2(buf);
+        head[0] = buf[11];
+        head[1] = buf[12];
+        head[2] = buf[NRESTART_V2];
+      } else {
+        records = read_pair_record(fp, head);
       }
+      vc::ContactModel m;
+      const std::string err = m.from_records(records);
+      if (!err.empty())
+        fail(fmt::format("pair viscontact: type pair {} {} of the restart file: {}", i, j, err));
+      Ein[i][j] = Ein[j][i] = head[0];
+      nuin[i][j] = nuin[j][i] = head[1];
+      m.set_moduli(vc::mix_Estar(head[0], head[1], head[0], head[1]),
+                   vc::mix_Gstar(head[0], head[1], head[0], head[1]));
+      m.setup();
+      models[i][j] = models[j][i] = m;
+      cut_user[i][j] = cut_user[j][i] = head[2];
     }
   }
 }
@@ -716,9 +725,12 @@ void PairViscontact::read_restart_settings(FILE *fp)
   int version = 0;
   if (comm->me == 0) utils::sfread(FLERR, &version, sizeof(int), 1, fp, nullptr, error);
   MPI_Bcast(&version, 1, MPI_INT, 0, world);
-  if (version != RESTART_VERSION)
-    fail("pair viscontact: this restart file was written by an older viscontact (contact model "
-         "format 1); give pair_style viscontact and its pair_coeff lines again after read_restart");
+  if (version != 2 && version != RESTART_VERSION)
+    fail(fmt::format("pair viscontact: this restart file holds contact model format {}; this "
+                     "viscontact reads formats 2 and {}: give pair_style viscontact and its "
+                     "pair_coeff lines again after read_restart", version, RESTART_VERSION));
+  restart_format = version;
+  t0_restart = version == 2;
   if (comm->me == 0) utils::sfread(FLERR, &cut_global, sizeof(double), 1, fp, nullptr, error);
   MPI_Bcast(&cut_global, 1, MPI_DOUBLE, 0, world);
 }

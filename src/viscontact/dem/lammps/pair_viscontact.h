@@ -11,7 +11,7 @@
        TMODEL = none | linear_nohistory XGAMMA MU | linear_history KT XGAMMA MU
               | mindlin[_rescale][/force] KT|NULL XGAMMA MU | mindlin MU
 
-   The force law is viscontact_contact.h (its header cites the papers), the user's
+   The contact model is viscontact_model.h (its sub-models' headers cite the papers), the user's
    reference is docs/pair_viscontact.md.  Cutoff (as native pair granular, measured): per type the
    largest radius of moving atoms (and of what fix pour / fix deposit will insert) and of frozen
    atoms; a sphere that outgrows it later stops the run with an error.  m*: viscontact_lammps.h.
@@ -62,8 +62,6 @@ class PairViscontact : public Pair {
   /// The material of type itype as given by `pair_coeff I I` (for fix viscontact/wall):
   /// false when no pair_coeff I I was given.
   bool type_material(int itype, double &E, double &nu) const;
-  /// Parsed coefficients of a type pair (after init: mixed ones too).
-  const viscontact::LawParams &law_params(int itype, int jtype) const { return models[itype][jtype].law; }
   /// The contact model of a type pair (after init: mixed ones too).
   const viscontact::ContactModel &contact_model(int itype, int jtype) const { return models[itype][jtype]; }
   /// The type pair's model as given by pair_coeff I I (normal kind and W, for the wall fix).
@@ -94,7 +92,7 @@ class PairViscontact : public Pair {
   bigint radii_checked_run[2];    // first and last step of the run whose radii were checked
   class FixViscontactHistory *fix_history;
 
-  static constexpr int MAX_HISTORY = 40;    // the largest ContactModel::history_size() (36)
+  static constexpr int MAX_HISTORY = 40;    // the largest ContactModel::history_size() (38)
   struct EnergyTally {
     std::vector<double> diss, elastic;    // this step, per atom (local and ghost)
     void add_pair(int i, int j, int nlocal, int newton_pair, const viscontact::ContactResult &r);
@@ -106,6 +104,9 @@ class PairViscontact : public Pair {
   bool energy_requested = false;
   EnergyTally *energy_begin();
   void energy_end(EnergyTally *t, bool advance);
+  void refresh_atoms();
+  void apply(int i, int j, bool both_sides, const viscontact::ContactResult &res,
+             double *heatflow);
   void pair_geometry(int i, int j, const double dx[3], double rsq, double meff,
                      viscontact::ContactGeometry &g) const;
   /// k, c0, tau (and the relaxation's step factors) of a contact; most packings have one or
@@ -129,8 +130,12 @@ class PairViscontact : public Pair {
   void parse_coeff(int narg, char **arg, viscontact::ContactModel &m, double &E, double &nu,
                    double &cut);
   bool heat_on;    // the type pairs conduct heat (heat area)
-  bool layout_xi = false, layout_aprev = false, layout_roll = false, layout_twist = false,
-       layout_t0 = false;
+  viscontact::HistoryLayout layout;    // the largest history block of each kind over the type pairs
+  int restart_format = 3;               // of the restart file being read
+  /// a format-2 restart was read: its stored contacts hold Jian's start time t0, not the
+  /// relaxation g; the first force call converts them (ContactModel::relaxation_from_start_time)
+  bool t0_restart = false;
+  std::vector<viscontact::Record> read_pair_record(FILE *fp, double head[3]);
   bool energy_on = false;    // a compute viscontact/energy existed at init: energies are tallied
   [[noreturn]] void fail(const std::string &msg);
 };

@@ -18,11 +18,7 @@
        c0  = alpha m*^((3-2p)/5) vref^((1-4p)/5) k^((2+2p)/5)
        tau = beta T_ref,   T_ref = (m*^2 / (k^2 vref))^(1/5)
 
-   Tangential (Mindlin 1949; LAMMPS granular docs, `tangential mindlin`): Mindlin no-slip
-   stiffness k_t = 8 G* a, a = sqrt(R* delta), spring displacement xi kept per contact,
-   rotated into the current tangent plane each step, Coulomb limit |F_t| <= mu |F_n|; the
-   arithmetic follows LAMMPS `pair granular`
-   `tangential mindlin NULL 0.0 MU` (no tangential damping).
+   The sub-models that use this law are composed in viscontact_model.h.
 
    This file is part of viscontact.  Compiled into a LAMMPS plugin it links GPL-2 LAMMPS.
 */
@@ -124,10 +120,6 @@ struct LawParams {
   double c0 = 0.0;          ///< physical damping prefactor [N s / m^(1+p)] (LH: kg/s)
   double tau = 0.0;         ///< Jian: relaxation time [s]
   bool clamp = true;        ///< `end force`: F_n >= 0 (no attraction); `end overlap`: no clamp
-  bool friction = false;    ///< `tangential mindlin MU` (true) or `tangential none`
-  double mu = 0.0;          ///< Coulomb friction coefficient [-]
-  double Estar = 0.0;       ///< effective Young modulus E* of the pair [Pa]
-  double Gstar = 0.0;       ///< effective shear modulus G* of the pair [Pa]
 };
 
 /// Per-contact coefficients: Hertz stiffness k [N/m^1.5], damping prefactor c0 [N s/m^(1+p)],
@@ -200,28 +192,12 @@ inline double overlap_power(double delta, double p)
   return std::pow(delta, p);
 }
 
-/// THE normal law (unclamped): F_n = k delta^(3/2) + c0 g(t_c) delta^p ddelta [N].
-///
-/// delta [m] > 0 overlap, ddelta [m/s] overlap rate (> 0 approaching), t_contact [s] time since
-/// the contact began, k [N/m^1.5], c0 [N s/m^(1+p)], tau [s] (0: g = 1), p the exponent.
-/// Non-dimensional (k = 1, c0 = alpha, tau = beta) it is `viscontact.kernels.force`.
-inline double normal_force(double delta, double ddelta, double t_contact, double k, double c0,
-                           double tau, double p)
-{
-  return k * (delta * std::sqrt(delta)) +
-      c0 * relaxation(t_contact, tau) * overlap_power(delta, p) * ddelta;
-}
-
-/// The end criterion: `end force` clamps F_n at 0 (no attraction, zero-force end),
-/// `end overlap` keeps the sign (the damping may pull until delta = 0).
-inline double clamp_normal(double fn, bool clamp) { return (clamp && fn < 0.0) ? 0.0 : fn; }
-
-/// Per-contact k, c0, tau from the parsed LawParams and the contact's m* [kg] and R* [m]
+/// Per-contact k, c0, tau from the parsed LawParams, the contact's E* [Pa], m* [kg] and R* [m]
 /// (pair: m* = m_i m_j/(m_i+m_j), R* = r_i r_j/(r_i+r_j); wall: m* = m, R* = r).
-inline ContactCoeffs contact_coeffs(const LawParams &lp, double meff, double reff)
+inline ContactCoeffs contact_coeffs(const LawParams &lp, double Estar, double meff, double reff)
 {
   ContactCoeffs cc;
-  cc.k = hertz_stiffness(lp.Estar, reff);
+  cc.k = hertz_stiffness(Estar, reff);
   if (lp.by_alpha) {
     const double p = lp.p;
     cc.c0 = lp.alpha * std::pow(meff, (3.0 - 2.0 * p) / 5.0) *
@@ -277,25 +253,6 @@ inline double contact_start_time(double t_now, double dt, double delta, double d
   return t_now;
 }
 
-/* ---- Mindlin tangential update ------------------------------------------------------------
-
-   History of one contact: xi[3], the tangential spring displacement [m] (seen from body i).
-   Inputs: n the unit normal from j to i (x_i - x_j)/|x_i - x_j| (wall: from the wall to the
-   sphere), vtr the relative tangential velocity of the contact point [m/s] (see
-   relative_tangential_velocity), dt [s], k_t = 8 G* a [N/m] (a = sqrt(R* delta)), fn_limit =
-   mu |F_n| [N] (F_n after the clamp).
-   Steps (LAMMPS `tangential mindlin`, damping 0):
-     1. if |xi . n| k_t > 1e-10 fn_limit: project xi onto the tangent plane and rescale it to
-        its old length (the frame rotates with the contact);
-     2. xi += dt vtr;
-     3. F_t = -k_t xi;
-     4. if |F_t| > fn_limit: F_t *= fn_limit/|F_t| and xi = -F_t / k_t (slip), or F_t = 0 if
-        xi = 0.
-   During a run's setup (LAMMPS recomputes the forces before the first step) steps 1-2 are
-   skipped (advance = false), as LAMMPS granular's history_update = 0.
-   The force on body i is F_t; the same with the opposite sign acts on j.
-*/
-
 /// vtr = (v_r - (v_r . n) n) - (wr x n) [m/s]: v_r = v_i - v_j, wr = r_i w_i + r_j w_j
 /// (wall: wr = r_i w_i, v_j the wall's velocity).  Also returns v_r . n (< 0 approaching).
 inline double relative_tangential_velocity(const double vr[3], const double wr[3],
@@ -310,70 +267,6 @@ inline double relative_tangential_velocity(const double vr[3], const double wr[3
   vtr[2] = vt2 - (wr[0] * n[1] - wr[1] * n[0]);
   return vnnr;
 }
-
-/// Mindlin tangential step (see above): updates xi in place, writes F_t on body i into ft.
-/// advance = false (the force computation of a run's setup, as LAMMPS granular's
-/// history_update = 0): steps 1-2 are skipped, F_t comes from xi as it is (still limited).
-inline void mindlin_tangential(double xi[3], const double n[3], const double vtr[3], double dt,
-                               double kt, double fn_limit, double ft[3], bool advance = true)
-{
-  const double EPS = 1e-10;
-  const double rsht = xi[0] * n[0] + xi[1] * n[1] + xi[2] * n[2];
-  if (advance && std::fabs(rsht) * kt > EPS * fn_limit) {
-    const double shrmag = std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
-    xi[0] -= rsht * n[0];
-    xi[1] -= rsht * n[1];
-    xi[2] -= rsht * n[2];
-    const double prjmag = std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
-    const double scale = prjmag > 0.0 ? shrmag / prjmag : 0.0;
-    xi[0] *= scale;
-    xi[1] *= scale;
-    xi[2] *= scale;
-  }
-  if (advance) {
-    xi[0] += dt * vtr[0];
-    xi[1] += dt * vtr[1];
-    xi[2] += dt * vtr[2];
-  }
-  ft[0] = -kt * xi[0];
-  ft[1] = -kt * xi[1];
-  ft[2] = -kt * xi[2];
-  const double magfs = std::sqrt(ft[0] * ft[0] + ft[1] * ft[1] + ft[2] * ft[2]);
-  if (magfs > fn_limit) {
-    const double shrmag = std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
-    if (shrmag != 0.0) {
-      const double s = fn_limit / magfs;
-      ft[0] *= s;
-      ft[1] *= s;
-      ft[2] *= s;
-      const double inv = -1.0 / kt;
-      xi[0] = ft[0] * inv;
-      xi[1] = ft[1] * inv;
-      xi[2] = ft[2] * inv;
-    } else {
-      ft[0] = ft[1] = ft[2] = 0.0;
-    }
-  }
-}
-
-/// Tangential stiffness k_t = 8 G* a [N/m], a = sqrt(R* delta) the contact radius.
-inline double mindlin_stiffness(double Gstar, double reff, double delta)
-{
-  return 8.0 * Gstar * std::sqrt(delta * reff);
-}
-
-/// Torque on body i from F_t at the contact point: T_i = -(dist_i) (n x F_t), dist_i = r_i -
-/// delta/2 for a pair (r_i for a wall); body j gets -(r_j - delta/2) (n x F_t) likewise, i.e.
-/// the same sign (LAMMPS granular convention).
-inline void tangential_torque(const double n[3], const double ft[3], double dist, double t[3])
-{
-  t[0] = -dist * (n[1] * ft[2] - n[2] * ft[1]);
-  t[1] = -dist * (n[2] * ft[0] - n[0] * ft[2]);
-  t[2] = -dist * (n[0] * ft[1] - n[1] * ft[0]);
-}
-
-/// Size of one contact's history: xi[3] and the start time t0 [s].
-constexpr int HISTORY_SIZE = 4;
 
 }    // namespace viscontact
 

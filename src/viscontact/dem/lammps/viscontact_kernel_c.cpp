@@ -1,48 +1,126 @@
-/* extern "C" entry points to viscontact_contact.h for the ctypes tests
-   (tests/dem/pair/test_cpp_kernel.py).  Built by viscontact.dem.plugin.kernel_library_path()
-   into a tiny library of its own: no LAMMPS. */
-#include "viscontact_contact.h"
+/* extern "C" entry points for the ctypes tests (tests/dem/pair/test_cpp_kernel.py): every one
+   runs the shipped contact model (viscontact_model.h: ContactModel::evaluate, as pair and wall call it)
+   on one contact, so that the tests check the code the plugin runs against the Python
+   formulas.  Built by viscontact.dem.plugin.kernel_library_path() into a tiny library of its
+   own: no LAMMPS. */
 #include "viscontact_model.h"
+
+namespace {
+namespace vc = viscontact;
+
+/// A model of hertz/material, the damping law `law` in the c0 form, no clamp, and the given
+/// tangential model; energies off; the history keeps Jian's clock for every law.
+vc::ContactModel one_contact_model(int law, double p, double c0, double tau, bool clamp,
+                                   double Estar, const vc::TangentialModel &tangential)
+{
+  vc::ContactModel m;
+  m.normal = vc::NormalHertz();
+  m.damping.law.law = static_cast<vc::Law>(law);
+  m.damping.law.p = p;
+  m.damping.law.by_alpha = false;
+  m.damping.law.c0 = c0;
+  m.damping.law.tau = tau;
+  m.damping.law.clamp = clamp;
+  m.tangential = tangential;
+  m.set_moduli(Estar, 0.0);
+  m.track_energy = false;
+  vc::HistoryLayout clock;
+  clock.damping = 1;
+  m.setup(clock);
+  return m;
+}
+
+/// A contact along n = z with overlap delta, overlap rate ddelta (v_r = vt - ddelta n), no
+/// rotation, R* = reff.
+vc::ContactGeometry along_z(double delta, double ddelta, const double *vt, double reff, double dt,
+                            double t_now)
+{
+  vc::ContactGeometry g;
+  for (int k = 0; k < 3; k++) {
+    g.n[k] = k == 2 ? 1.0 : 0.0;
+    g.vr[k] = (vt ? vt[k] : 0.0) - (k == 2 ? ddelta : 0.0);
+    g.omega_i[k] = g.omega_j[k] = 0.0;
+  }
+  g.delta = delta;
+  g.r_i = g.r_j = 2.0 * reff;
+  g.reff = reff;
+  g.meff = 1.0;
+  g.dt = dt;
+  g.t_now = t_now;
+  return g;
+}
+}    // namespace
 
 extern "C" {
 
-/// normal_force for n points (arrays of length n), results into out.
+/// The normal force F_n = k delta^(3/2) + c0 g(t) delta^p ddelta (unclamped) at n points: the
+/// contact model's hertz normal (R* = 1, E* = 3k/4) and damping (law power with exponent p,
+/// per-contact k, c0, tau given), the contact begun at time 0 and seen at time t.
 void vc_normal_force_many(long n, const double *delta, const double *ddelta, const double *t,
                           const double *k, const double *c0, const double *tau, const double *p,
                           double *out)
 {
-  for (long i = 0; i < n; ++i)
-    out[i] = viscontact::normal_force(delta[i], ddelta[i], t[i], k[i], c0[i], tau[i], p[i]);
+  for (long i = 0; i < n; ++i) {
+    const vc::ContactModel m = one_contact_model(static_cast<int>(vc::Law::Power), p[i], c0[i],
+                                                 tau[i], false, 0.75 * k[i], vc::TangentialNone());
+    vc::ContactGeometry g = along_z(delta[i], ddelta[i], nullptr, 1.0, 1.0, t[i]);
+    const vc::ContactCoeffs cc{k[i], c0[i], tau[i]};
+    g.coeffs = &cc;
+    double h[64] = {0.0};
+    h[0] = 1.0;    // an existing contact, begun at t = 0: its relaxation g(t) as stored
+    h[m.history_slots().damping] = vc::relaxation(t[i], tau[i]);
+    vc::ContactResult res;
+    m.evaluate(g, h, false, res);
+    out[i] = res.fn;
+  }
 }
 
 double vc_relaxation(double t, double tau) { return viscontact::relaxation(t, tau); }
 
-/// contact_coeffs for one LawParams given by value: law index (enum order LH Ts KK Li Hunt Jian
-/// power), p, by_alpha, alpha, vref, beta, c0, tau, E*; writes k, c0, tau into out[3].
+/// The contact model's per-contact coefficients (ContactModel::coeffs) for a damping law given
+/// by value: law index (enum order LH Ts KK Li Hunt Jian power), p, by_alpha, alpha, vref,
+/// beta, c0, tau, E*; writes k, c0, tau into out[3].
 void vc_contact_coeffs(int law, double p, int by_alpha, double alpha, double vref, double beta,
                        double c0, double tau, double Estar, double meff, double reff, double *out)
 {
-  viscontact::LawParams lp;
-  lp.law = static_cast<viscontact::Law>(law);
-  lp.p = p;
+  vc::ContactModel m = one_contact_model(law, p, c0, tau, true, Estar, vc::TangentialNone());
+  vc::LawParams &lp = m.damping.law;
   lp.by_alpha = by_alpha != 0;
   lp.alpha = alpha;
   lp.vref = vref;
   lp.beta = beta;
-  lp.c0 = c0;
-  lp.tau = tau;
-  lp.Estar = Estar;
-  const viscontact::ContactCoeffs cc = viscontact::contact_coeffs(lp, meff, reff);
+  const vc::ContactCoeffs cc = m.coeffs(meff, reff);
   out[0] = cc.k;
   out[1] = cc.c0;
   out[2] = cc.tau;
 }
 
-/// one Mindlin step: xi[3] in/out, n[3], vtr[3], dt, kt, fn_limit -> ft[3]
+/// One step of a tangential spring without damping (the contact model's linear_history with
+/// KT = kt, XGAMMA 0, MU 1, on a contact whose normal force is fn_limit): xi[3] in/out, n must
+/// be z, vtr[3] tangential, dt -> ft[3].
 void vc_mindlin(double *xi, const double *n, const double *vtr, double dt, double kt,
                 double fn_limit, double *ft)
 {
-  viscontact::mindlin_tangential(xi, n, vtr, dt, kt, fn_limit, ft);
+  (void) n;
+  vc::TangentialLinearHistory spring;
+  spring.kt = kt;
+  spring.mu = 1.0;
+  // the normal force fn_limit: no overlap, c0 = fn_limit, overlap rate 1 (LH: delta^0 = 1)
+  const vc::ContactModel m = one_contact_model(static_cast<int>(vc::Law::LH), 0.0, fn_limit, 0.0,
+                                               false, 1.0, spring);
+  vc::ContactGeometry g = along_z(0.0, 1.0, vtr, 1.0, dt, 0.0);
+  const vc::ContactCoeffs cc{1.0, fn_limit, 0.0};
+  g.coeffs = &cc;
+  double h[64] = {0.0};
+  h[0] = 1.0;
+  const int x = m.history_slots().tangential;
+  for (int k = 0; k < 3; k++) h[x + k] = xi[k];
+  vc::ContactResult res;
+  m.evaluate(g, h, true, res);
+  for (int k = 0; k < 3; k++) {
+    xi[k] = h[x + k];
+    ft[k] = res.ft[k];
+  }
 }
 
 /// The C++ law table, row i (0 <= i < vc_law_count()): name, exponent p (-1: given), whether
@@ -64,22 +142,13 @@ int vc_contact_step(int law, double p, double c0, double tau, int clamp, double 
                     double xgamma, double mu, const double *geo, double *h, int advance,
                     double *out)
 {
-  viscontact::ContactModel m;
-  m.normal.kind = viscontact::NormalKind::Hertz;
-  m.law.law = static_cast<viscontact::Law>(law);
-  m.law.p = p;
-  m.law.by_alpha = false;
-  m.law.c0 = c0;
-  m.law.tau = tau;
-  m.law.clamp = clamp != 0;
-  m.law.Estar = Estar;
-  m.tangential.kind = viscontact::TangentialKind::LinearHistory;
-  m.tangential.kt = kt;
-  m.tangential.xgamma = xgamma;
-  m.tangential.mu = mu;
-  m.track_energy = false;
+  vc::TangentialLinearHistory spring;
+  spring.kt = kt;
+  spring.xgamma = xgamma;
+  spring.mu = mu;
+  vc::ContactModel m = one_contact_model(law, p, c0, tau, clamp != 0, Estar, spring);
   m.setup();
-  viscontact::ContactGeometry g;
+  vc::ContactGeometry g;
   for (int k = 0; k < 3; k++) {
     g.n[k] = geo[k];
     g.vr[k] = geo[7 + k];
@@ -93,7 +162,7 @@ int vc_contact_step(int law, double p, double c0, double tau, int clamp, double 
   g.meff = geo[6];
   g.dt = geo[16];
   g.t_now = geo[17];
-  viscontact::ContactResult res;
+  vc::ContactResult res;
   m.evaluate(g, h, advance != 0, res);
   for (int k = 0; k < 3; k++) {
     out[k] = res.force[k];
