@@ -291,24 +291,44 @@ void FixWallViscontact::mesh_output()
   std::fclose(fp);
 }
 
-/* ---- global restart record: the mesh's last displacement and angle ---------------------- */
+/* ---- global restart record: the mesh's motion state at the last step ---------------------
+   (displacement and angle, the velocity over that step, the step), so that a run continued
+   from a restart file starts from the same wall position and velocity. */
+
+namespace {
+constexpr int NRESTART = 10;    // d[3], theta, v[3], omega[3]
+}
 
 int FixWallViscontact::mesh_restart_size() const
 {
-  return 4 * static_cast<int>(sizeof(double)) + static_cast<int>(sizeof(int));
+  return NRESTART * static_cast<int>(sizeof(double)) + static_cast<int>(sizeof(bigint));
 }
 
 void FixWallViscontact::mesh_write_restart(FILE *fp)
 {
-  const int have = meshwall->have_prev ? 1 : 0;
-  fwrite(meshwall->prev, sizeof(double), 4, fp);
-  fwrite(&have, sizeof(int), 1, fp);
+  const MeshWall &w = *meshwall;
+  const double state[NRESTART] = {w.prev[0], w.prev[1], w.prev[2], w.prev[3], w.v[0], w.v[1],
+                                  w.v[2], w.omega[0], w.omega[1], w.omega[2]};
+  const bigint step = w.have_prev ? w.step : -1;
+  fwrite(state, sizeof(double), NRESTART, fp);
+  fwrite(&step, sizeof(bigint), 1, fp);
 }
 
 void FixWallViscontact::mesh_restart(const char *buf)
 {
-  int have = 0;
-  std::memcpy(meshwall->prev, buf, 4 * sizeof(double));
-  std::memcpy(&have, buf + 4 * sizeof(double), sizeof(int));
-  meshwall->have_prev = have != 0;
+  MeshWall &w = *meshwall;
+  double state[NRESTART];
+  bigint step;
+  std::memcpy(state, buf, sizeof state);
+  std::memcpy(&step, buf + sizeof state, sizeof(bigint));
+  if (step < 0 || !w.moving()) return;
+  for (int d = 0; d < 3; d++) {
+    w.prev[d] = w.d[d] = state[d];
+    w.v[d] = state[4 + d];
+    w.omega[d] = state[7 + d];
+  }
+  w.prev[3] = w.theta = state[3];
+  w.rot = vm::rotation(w.runit, w.theta);
+  w.step = step;
+  w.have_prev = true;
 }
