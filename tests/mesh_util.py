@@ -1,35 +1,13 @@
-"""Triangle meshes for the mesh-wall tests, written as STL files in a test's directory (binary
-or ASCII): flat grids, a polygonal tube, a closed box, a roof and a pyramid."""
+"""Triangle meshes for the mesh-wall tests (flat grids, a polygonal tube, a closed box, a roof
+and a pyramid), written as STL files in a test's directory by viscontact.dem.stl.write_stl."""
 
 from __future__ import annotations
 
-import struct
-from pathlib import Path
-
 import numpy as np
 
+from viscontact.dem.stl import write_stl  # noqa: F401  (the tests' writer)
+
 Tri = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]
-
-
-def write_stl(path: Path, tris: list[Tri], *, binary: bool = True) -> Path:
-    """Write triangles (three corners each) as a binary (float32) or ASCII STL file.  Corners
-    should be exact in float32 when binary (the tests use multiples of powers of two)."""
-    path = Path(path)
-    if binary:
-        out = bytearray(b"viscontact test mesh".ljust(80, b" "))
-        out += struct.pack("<I", len(tris))
-        for t in tris:
-            out += struct.pack("<12fH", 0.0, 0.0, 0.0, *(c for v in t for c in v), 0)
-        path.write_bytes(bytes(out))
-    else:
-        lines = ["solid test"]
-        for t in tris:
-            lines += ["  facet normal 0 0 0", "    outer loop"]
-            lines += ["      vertex {!r} {!r} {!r}".format(*v) for v in t]
-            lines += ["    endloop", "  endfacet"]
-        lines.append("endsolid test")
-        path.write_text("\n".join(lines) + "\n")
-    return path
 
 
 def grid(x0: float, y0: float, n: int, a: float, z: float = 0.0) -> list[Tri]:

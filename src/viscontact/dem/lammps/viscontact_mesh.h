@@ -17,7 +17,12 @@
      the face under the sphere gives the contact);
    - contacts whose points coincide (to 1e-9 s) are one contact: a sphere exactly above a
      shared edge or vertex of a flat patch touches it once, with the face normal where a face
-     gave it.
+     gave it;
+   - a shallow concave crease (the facets of a curved wall seen from inside): contacts on
+     triangles sharing a vertex whose normals differ by less than the crease angle (default
+     30 degrees) are one contact, the deepest (two full face contacts there would double the
+     force of a sphere sitting on the crease; with the deepest only, the force's size is
+     continuous across it and its direction turns by the facets' angle).
    The globally closest point of the mesh always passes the test (each triangle through it has
    its closest point there), so a sphere within reach of the mesh always has a contact.
 
@@ -196,6 +201,26 @@ class TriangleMesh {
         }
       if (!dup) out.push_back(h);
     }
+    // a shallow concave crease (a curved wall's facets): of the contacts on triangles sharing
+    // a vertex whose normals differ by less than the crease angle, the deepest acts alone
+    if (out.size() < 2 || crease_cos > 1.0) return;
+    for (size_t i = 0; i < out.size(); i++)
+      for (size_t j = i + 1; j < out.size();) {
+        if (dot(out[i].n, out[j].n) > crease_cos && adjacent(out[i].tri, out[j].tri)) {
+          if (out[j].dist < out[i].dist) out[i] = out[j];
+          out.erase(out.begin() + static_cast<long>(j));
+          j = i + 1;
+        } else {
+          j++;
+        }
+      }
+  }
+
+  /// Concave creases whose contact normals differ by less than `degrees` give one contact
+  /// (the deepest); 0: every face its own contact.
+  void set_crease(double degrees)
+  {
+    crease_cos = degrees > 0.0 ? std::cos(degrees * M_PI / 180.0) : 2.0;
   }
 
   /// The closest point of triangle t to x, its feature, distance and normal (to x).
@@ -239,6 +264,7 @@ class TriangleMesh {
   std::vector<std::array<int, 2>> etris;  // edge -> its one or two triangles (-1: none)
   std::vector<std::array<int, 3>> te;     // triangle -> edge k (vertex k to k+1)
   int maxval = 0;
+  double crease_cos = std::cos(30.0 * M_PI / 180.0);
   Vec bblo{}, bbhi{};
   // the bin grid
   double h = 1.0;
