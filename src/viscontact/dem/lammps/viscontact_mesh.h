@@ -185,6 +185,8 @@ class TriangleMesh {
             const int t = ctris[m];
             if (mark[t] == query) continue;
             mark[t] = query;
+            // the distance to the triangle's plane bounds the distance to the triangle
+            if (std::fabs(dot(sub(x, verts[tv[t][0]]), tn[t])) >= s) continue;
             const Hit h = closest(t, x);
             if (h.dist < s) cand.push_back(h);
           }
@@ -455,8 +457,9 @@ class TriangleMesh {
     return "";
   }
 
-  /// A uniform grid over the bounding box, cells about the median triangle size (at most
-  /// about 2e6 cells); each triangle listed in every cell its bounding box overlaps.
+  /// A uniform grid over the bounding box, cells about the median triangle size (capped at
+  /// the root of the mean triangle area; at most about 2e6 cells); each triangle listed
+  /// in every cell its bounding box overlaps.
   void bin()
   {
     bblo = bbhi = verts[0];
@@ -479,7 +482,12 @@ class TriangleMesh {
       size.push_back(ext);
     }
     std::nth_element(size.begin(), size.begin() + size.size() / 2, size.end());
-    h = size[size.size() / 2];
+    // the median extent, but no more than the root of the mean area: long thin
+    // triangles (a cone's, a tube's) then span several cells instead of each cell holding all
+    double area = 0.0;
+    for (const auto &ids : tv)
+      area += 0.5 * norm(cross(sub(verts[ids[1]], verts[ids[0]]), sub(verts[ids[2]], verts[ids[0]])));
+    h = std::min(size[size.size() / 2], std::sqrt(area / static_cast<double>(tv.size())));
     for (;;) {
       double ncell = 1.0;
       for (int d = 0; d < 3; d++) {
