@@ -65,3 +65,15 @@ def pyramid(half: float, height: float) -> list[Tri]:
     apex = (0.0, 0.0, height)
     base = [(-half, -half, 0.0), (half, -half, 0.0), (half, half, 0.0), (-half, half, 0.0)]
     return [(base[k], base[(k + 1) % 4], apex) for k in range(4)]
+
+
+def sphere_lines(first: int, spheres, radius: float, density: float) -> list[str]:
+    """LAMMPS lines creating spheres ``(x, v, omega)`` as atoms first, first + 1, ..."""
+    cmds = []
+    for k, (x, v, w) in enumerate(spheres):
+        n = first + k
+        cmds += ["create_atoms 1 single {!r} {!r} {!r}".format(*x),
+                 f"set atom {n} diameter {2 * radius!r} density {density!r}",
+                 "set atom {} vx {!r} vy {!r} vz {!r}".format(n, *v),
+                 "set atom {} omega {!r} {!r} {!r}".format(n, *w)]
+    return cmds

@@ -32,7 +32,7 @@ import numpy as np
 import pytest
 
 from dem_util import needs_lammps
-from mesh_util import box, grid, pyramid, roof, tube, write_stl
+from mesh_util import box, grid, pyramid, roof, sphere_lines, tube, write_stl
 
 pytestmark = needs_lammps
 
@@ -84,14 +84,7 @@ def _head() -> list[str]:
 
 
 def _atoms(first: int, paths) -> list[str]:
-    cmds = []
-    for k, (x, v, w) in enumerate(paths):
-        n = first + k
-        cmds += ["create_atoms 1 single {!r} {!r} {!r}".format(*x),
-                 f"set atom {n} diameter {2 * R!r} density {RHO!r}",
-                 "set atom {} vx {!r} vy {!r} vz {!r}".format(n, *v),
-                 "set atom {} omega {!r} {!r} {!r}".format(n, *w)]
-    return cmds
+    return sphere_lines(first, paths, R, RHO)
 
 
 def _state(lmp, n: int) -> dict[str, np.ndarray]:

@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 from dem_util import assert_ok, needs_lammps, needs_mpirun, plugin_line, read_atoms, run_lmp
-from mesh_util import grid, write_stl
+from mesh_util import grid, sphere_lines, write_stl
 
 pytestmark = needs_lammps
 
@@ -48,14 +48,7 @@ COLUMNS = ("x", "v", "f", "omega", "torque")
 
 
 def _sphere_lines(first: int) -> list[str]:
-    cmds = []
-    for k, (x, v, w) in enumerate(SPHERES):
-        n = first + k
-        cmds += ["create_atoms 1 single {!r} {!r} {!r}".format(*x),
-                 f"set atom {n} diameter {2 * R!r} density {RHO!r}",
-                 "set atom {} vx {!r} vy {!r} vz {!r}".format(n, *v),
-                 "set atom {} omega {!r} {!r} {!r}".format(n, *w)]
-    return cmds
+    return sphere_lines(first, SPHERES, R, RHO)
 
 
 def _wall(fid: str, group: str, geom: str) -> str:
