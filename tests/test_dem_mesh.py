@@ -445,3 +445,16 @@ def test_bad_meshes_and_keywords(tmp_path):
             assert text.startswith("ERROR") and msg in text and text.count("ERROR") == 1, (name, text)
     finally:
         os.chdir(cwd)
+
+
+def test_python_wall_writes_the_mesh_style():
+    """``Wall("mesh", (FILE, KEYWORDS))`` writes ``mesh FILE KEYWORDS`` (the file's lengths);
+    a file name with spaces, no file, or wiggle/shear: one ValueError naming what is allowed."""
+    from viscontact.dem.materials import Wall
+
+    assert Wall("mesh", ("hop.stl", "scale 0.001")).geometry("si") == "mesh hop.stl scale 0.001"
+    assert Wall("mesh", "hop.stl").geometry("cgs") == "mesh hop.stl"
+    for kwargs in (dict(args=("a b.stl",)), dict(args=()),
+                   dict(args=("h.stl",), wiggle=("z", 0.001, 0.01))):
+        with pytest.raises(ValueError, match="mesh"):
+            Wall("mesh", **kwargs)
