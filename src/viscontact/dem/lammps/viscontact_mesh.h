@@ -459,7 +459,7 @@ class TriangleMesh {
 
   /// A uniform grid over the bounding box, cells about the median triangle size (capped at
   /// the root of the mean triangle area; at most about 2e6 cells); each triangle listed
-  /// in every cell its bounding box overlaps.
+  /// in every cell of its bounding box that its plane crosses.
   void bin()
   {
     bblo = bbhi = verts[0];
@@ -514,9 +514,16 @@ class TriangleMesh {
             r[d] = cell_index(d, a);
             r[3 + d] = cell_index(d, b);
           }
+        // only the cells of its bounding box that its plane crosses (a long slanted
+        // triangle's box holds many cells it never comes near)
+        const Vec &n = tn[t], &a = verts[tv[t][0]];
+        const double reach = 0.5 * h * (std::fabs(n[0]) + std::fabs(n[1]) + std::fabs(n[2]));
         for (int i = r[0]; i <= r[3]; i++)
           for (int j = r[1]; j <= r[4]; j++)
             for (int k = r[2]; k <= r[5]; k++) {
+              const Vec centre{bblo[0] + (i + 0.5) * h, bblo[1] + (j + 0.5) * h,
+                               bblo[2] + (k + 0.5) * h};
+              if (std::fabs(dot(sub(centre, a), n)) > reach * (1.0 + 1e-9) + 1e-12 * h) continue;
               const int c = (i * dims[1] + j) * dims[2] + k;
               if (pass == 0) cstart[c + 1]++;
               else ctris[fill[c]++] = static_cast<int>(t);
