@@ -207,7 +207,8 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
       peratom_freq = 1;
       i += 1;
     } else {
-      fail("unknown keyword " + viscontact::quoted(args[i]) + "; allowed: " + KEYWORDS);
+      fail("unknown keyword " + viscontact::quoted(args[i]) + "; allowed: " + KEYWORDS +
+           viscontact::native_hint(args, i));
     }
   }
   if (!seen_wall) fail("missing wall_material (E NU | rigid)");
