@@ -38,6 +38,14 @@ physical forms: our ``LH c0 C`` against native ``damping velocity C`` and our ``
 against native ``viscoelastic`` with eta0 = C/(m* sqrt(R*)) (one sphere size, so one m*, R*).
 
 Targets: plugin / native <= 1 for every law; t(1 rank) / t(2 ranks) >= 1.7.
+
+With ``--hopper`` only the wall cost is measured instead: spheres (d = 4 mm) in a conical
+hopper (outlet radius 1 cm at z = 0, radius 5 cm at z = 7 cm, open outlet) flowing out under
+gravity, the hopper once as ``fix viscontact/wall mesh`` (an STL cone of 64 facets, 128
+triangles) and once as ``fix viscontact/wall region`` (LAMMPS's analytic ``region cone``),
+the same spheres from the same lattice, the same law (LH with friction).  Figure: loop time
+per particle-step of each (best of --repeat, after a warm-up), and their ratio.
+Target: mesh / region <= 1.3 (measured 1.26: 0.146 against 0.116 us per particle-step).
 """
 
 from __future__ import annotations
@@ -247,7 +255,11 @@ def main() -> int:
     ap.add_argument("--full", action="store_true",
                     help="also the case with JKR, tangential damping, rolling and twisting (LH, KK)")
     ap.add_argument("--only-full", action="store_true", help="only that case")
+    ap.add_argument("--hopper", action="store_true",
+                    help="only the mesh hopper against the region cone (the wall's cost)")
     args = ap.parse_args()
+    if args.hopper:
+        return hopper_main(args)
     from viscontact import dem
 
     warm = 150 if args.quick else 300
@@ -273,6 +285,61 @@ def main() -> int:
                 results[(kind, ranks)] = parse(res.log_path, here, args.repeat)
                 print(f"  {kind} on {ranks} rank(s): {res.seconds:.1f} s", file=sys.stderr)
     report(results, args)
+    print(f"load average {os.getloadavg()[0]:.2f} after")
+    return 0
+
+
+HOPPER_CASES = ("mesh", "region")
+
+
+def hopper_lines(wall: str, stl: Path, warm: int, steps: int) -> list[str]:
+    """One hopper case: a simple cubic lattice of 4 mm spheres filling the cone above 2 cm,
+    gravity, the outlet open; a warm-up run, then the measured run."""
+    law = (f"damping LH c0 0.5 tangential mindlin NULL 0.5 {MU!r}")
+    wall_words = (f"wall_material rigid {law} particle {E!r} {NU!r}")
+    geom = f"mesh {stl}" if wall == "mesh" else "region cone"
+    return ["clear", "units si", "atom_style sphere", "atom_modify map array", "boundary f f f",
+            "comm_modify vel yes", "newton off",
+            "region box block -0.052 0.052 -0.052 0.052 -0.02 0.08", "create_box 1 box",
+            "region cone cone z 0 0 0.01 0.05 0.0 0.07 side in open 1 open 2",
+            "region fill cone z 0 0 0.024 0.044 0.02 0.07 side in",
+            "lattice sc 0.0045", "create_atoms 1 region fill",
+            "set group all diameter 0.004", f"set group all density {RHO!r}",
+            f"pair_style viscontact", f"pair_coeff * * hertz/material {E!r} {NU!r} {law}",
+            f"fix hopper all viscontact/wall {geom} {wall_words}",
+            "fix gravity all gravity 9.81 vector 0 0 -1", "fix move all nve/sphere",
+            "neighbor 0.001 bin", "neigh_modify delay 0", "timestep 1e-5",
+            "thermo_modify lost ignore", f"run {warm}", f"run {steps}"]
+
+
+def hopper_main(args) -> int:
+    """Mesh hopper against region cone: loop time per particle-step of each, and the ratio."""
+    from viscontact import dem
+    from viscontact.dem.stl import hopper, write_stl
+
+    warm, steps = (300, 300) if args.quick else (1000, args.steps or 2000)
+    print(f"load average {os.getloadavg()[0]:.2f} before")
+    with tempfile.TemporaryDirectory(prefix="viscontact-bench-hopper-") as tmp:
+        stl = write_stl(Path(tmp) / "hopper.stl", hopper(0.01, 0.05, 0.07, 64), binary=False)
+        body = []
+        for _ in range(args.repeat):
+            for wall in HOPPER_CASES:
+                body += [f"# case: {wall}", *hopper_lines(wall, stl, warm, steps)]
+        inp = Path(tmp) / "in.hopper"
+        inp.write_text("\n".join(body) + "\n")
+        res = dem.run_input(inp, progress=sys.stderr.isatty(), quiet=True)
+        loops = [(float(m.group(1)), int(m.group(3)), int(m.group(4)))
+                 for m in map(_LOOP.match, res.log_path.read_text().splitlines()) if m]
+    best = {}
+    for k, (t, nstep, atoms) in enumerate(loops):
+        if k % 2 == 1:    # the measured runs
+            wall = HOPPER_CASES[(k // 2) % len(HOPPER_CASES)]
+            cost = 1e6 * t / (nstep * atoms)
+            best[wall] = min(best.get(wall, (math.inf, 0)), (cost, atoms))
+    print("| hopper wall | us / particle-step | atoms at the end |\n|---|---|---|")
+    for wall in HOPPER_CASES:
+        print(f"| {wall} | {best[wall][0]:.3f} | {best[wall][1]} |")
+    print(f"mesh / region = {best['mesh'][0] / best['region'][0]:.2f} (target <= 1.3)")
     print(f"load average {os.getloadavg()[0]:.2f} after")
     return 0
 

@@ -123,8 +123,10 @@ _DIMS_XYZ = ("x", "y", "z")
 @dataclass(frozen=True)
 class Wall:
     """A wall of ``fix viscontact/wall``: ``style`` xplane|yplane|zplane with ``args``
-    (LO, HI) (a coordinate [m] or None for NULL), zcylinder with (R,) [m], or ``region`` with
-    (REGION-ID,) (any LAMMPS region, moving or rotating; several contacts per sphere);
+    (LO, HI) (a coordinate [m] or None for NULL), zcylinder with (R,) [m], ``region`` with
+    (REGION-ID,) (any LAMMPS region, moving or rotating; several contacts per sphere), or
+    ``mesh`` with (FILE,) or (FILE, "mesh keywords") (an STL triangle mesh, in the file's own
+    lengths: ``scale`` converts; ``move``/``rotate`` move it; docs/fix_viscontact_mesh.md);
     ``material`` ``"rigid"``, ``"same"`` or (E [Pa], nu).  ``wiggle`` (DIM, A [m], PERIOD [s])
     or ``shear`` (DIM, V [m/s]) move a plane or zcylinder (not a region: move the region);
     ``temperature`` T [K] or ``"v_name"`` (an equal-style variable) is needed with heat."""
@@ -136,13 +138,19 @@ class Wall:
     shear: tuple[str, float] | None = None
     temperature: float | str | None = None
 
-    STYLES = ("xplane", "yplane", "zplane", "zcylinder", "region")
+    STYLES = ("xplane", "yplane", "zplane", "zcylinder", "region", "mesh")
 
     def __post_init__(self) -> None:
         if not isinstance(self.style, str) or self.style not in self.STYLES:
             raise ValueError(f"wall style must be one of {', '.join(self.STYLES)}, got {self.style!r}")
         args = tuple(self.args) if isinstance(self.args, (tuple, list)) else (self.args,)
-        if self.style == "region":
+        if self.style == "mesh":
+            if not 1 <= len(args) <= 2 or not all(isinstance(a, str) for a in args) \
+                    or not re.fullmatch(r"\S+", args[0]):
+                raise ValueError("mesh wall needs (FILE,) or (FILE, 'mesh keywords'): an STL "
+                                 "file name without spaces and optional keywords such as "
+                                 "'scale 0.001 rotate v_th 0 0 0 0 0 1'")
+        elif self.style == "region":
             if len(args) != 1 or not isinstance(args[0], str) or not re.fullmatch(r"[A-Za-z0-9_]+", args[0]):
                 raise ValueError("region wall needs the region ID (letters, digits and _)")
         elif self.style == "zcylinder":
@@ -181,9 +189,9 @@ class Wall:
         if motion is None:
             return
         what = "wiggle" if self.wiggle is not None else "shear"
-        if self.style == "region":
-            raise ValueError(f"{what} is for plane and zcylinder walls; move a region wall with "
-                             "the region's own move/rotate keywords")
+        if self.style in ("region", "mesh"):
+            raise ValueError(f"{what} is for plane and zcylinder walls; move a {self.style} wall "
+                             "with its own move/rotate keywords")
         want = 3 if what == "wiggle" else 2
         if isinstance(motion, (str, bytes)) or not isinstance(motion, Sequence) or len(motion) != want:
             raise ValueError(f"{what} needs {'DIM A PERIOD' if what == 'wiggle' else 'DIM V'}")
@@ -210,6 +218,8 @@ class Wall:
         """``zplane 0.0 NULL`` / ``zcylinder 0.05`` / ``region drum`` with lengths in ``units``."""
         if self.style == "region":
             return f"region {self.args[0]}"
+        if self.style == "mesh":    # the file's lengths: its scale keyword converts
+            return " ".join(["mesh", *self.args])
         words = ["NULL" if a is None else _num(convert(a, "length", units)) for a in self.args]
         return " ".join([self.style, *words])
 

@@ -27,7 +27,8 @@ using namespace LAMMPS_NS;
 namespace {
 const char *const PREFIX = "fix viscontact/wall: ";
 const char *const SYNTAX =
-    "fix ID GROUP viscontact/wall (xplane|yplane|zplane LO HI | zcylinder R | region ID) "
+    "fix ID GROUP viscontact/wall (xplane|yplane|zplane LO HI | zcylinder R | region ID | "
+    "mesh FILE ...) "
     "wall_material (E NU | rigid) damping LAW ... tangential ... [wiggle DIM A PERIOD | "
     "shear DIM V] [particle E NU] [contacts]";
 const char *const KEYWORDS =
@@ -99,9 +100,12 @@ int FixWallViscontact::parse_wall(int narg, char **arg)
     tmax = region->tmax;
     if (tmax < 1) fail("region " + viscontact::quoted(idregion) + " has no surface to touch");
     iarg = 5;
+  } else if (style == "mesh") {
+    wallstyle = MESH;
+    iarg = mesh_parse(narg, arg, 4);
   } else {
     fail("unknown wall style " + viscontact::quoted(style) +
-         "; allowed: xplane yplane zplane (LO HI), zcylinder R or region REGION-ID");
+         "; allowed: xplane yplane zplane (LO HI), zcylinder R, region REGION-ID or mesh FILE");
   }
 
   return iarg;
@@ -233,6 +237,9 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
 
   if (motion != STILL) {
     const char *what = motion == WIGGLE ? "wiggle" : "shear";
+    if (wallstyle == MESH)
+      fail(std::string(what) + " cannot be used with a mesh wall: move the mesh with its move "
+                               "and rotate keywords");
     if (wallstyle == REGION)
       fail(std::string(what) + " cannot be used with a region wall: move the region itself "
                                "(region ... move/rotate)");
@@ -246,7 +253,7 @@ FixWallViscontact::FixWallViscontact(LAMMPS *lmp, int narg, char **arg) :
 
   // global output: total force of the wall(s) on the group
   vector_flag = 1;
-  size_vector = 3;
+  if (wallstyle != MESH) size_vector = 3;    // a mesh: 6, force and torque (mesh_parse)
   global_freq = 1;
   extvector = 1;
   wallforce[0] = wallforce[1] = wallforce[2] = 0.0;
@@ -281,6 +288,7 @@ FixWallViscontact::~FixWallViscontact()
   memory->destroy(array_atom);
   memory->destroy(ediss);
   memory->destroy(eel);
+  mesh_free();
 }
 
 int FixWallViscontact::setmask()
@@ -309,6 +317,7 @@ void FixWallViscontact::init()
     if (!input->variable->equalstyle(tvar))
       fail("temperature variable " + viscontact::quoted(tstr) + " must be equal-style");
   }
+  if (wallstyle == MESH) mesh_init();
   if (wallstyle == REGION) {
     region = domain->get_region_by_id(idregion);
     if (!region) fail("region " + viscontact::quoted(idregion) + " does not exist");
@@ -442,6 +451,8 @@ void FixWallViscontact::find_touches(int i, double wlo, double whi, const double
       c.vwall[2] = 0.0;
     }
     touches.push_back(c);
+  } else if (wallstyle == MESH) {
+    mesh_touches(i);
   } else {
     const int nc = region->surface(x[0], x[1], x[2], rad);
     if (nc > tmax)
@@ -528,6 +539,7 @@ void FixWallViscontact::contact(int i, double *h, const Touch &c, bool update_hi
     torque[d] += res.torque_i[d];
     wallforce[d] += res.force[d];
   }
+  if (meshwall) mesh_tally(i, c, res.force);
   if (heat_on) atom->heatflow[i] += res.heat;
   if (energy_on) {    // a wall contact counts fully on its atom; a run's setup is no step
     if (update_history)
@@ -584,6 +596,7 @@ void FixWallViscontact::post_force(int /*vflag*/)
     region->prematch();
     region->set_velocity();
   }
+  if (meshwall) mesh_step();
   if (peratom_flag)
     for (int i = 0; i < nlocal; i++)
       for (int k = 0; k < size_peratom_cols; k++) array_atom[i][k] = 0.0;
@@ -614,6 +627,7 @@ void FixWallViscontact::post_force(int /*vflag*/)
     const viscontact::ContactModel &m = type_model[atom->type[i]];
     const int nold = nstored[i];
     const double rad = atom->radius[i];
+    if (meshwall) mesh_inherit(i, nold);    // a relabelling only: setup too
 
     // each face's history by its wall index; a contact that goes on is evaluated where it is
     // stored (native's in-place update: no copy of the history per contact and step).  A run's
@@ -641,7 +655,9 @@ void FixWallViscontact::post_force(int /*vflag*/)
     // the dissipated columns); those that go on move up over them; a face found again later
     // starts from zero
     const int nkept =
-        ngoing == nold ? nold : end_contacts(i, wallstyle <= ZPLANE ? vplane : nullptr);
+        ngoing == nold ? nold
+                       : end_contacts(i, wallstyle <= ZPLANE || (meshwall && !mesh_moving())
+                                                ? vplane : nullptr);
     int n = nkept;
     for (int q = 0; q < nfresh; q++, n++) {
       const Touch &c = touches[fresh[q]];
@@ -652,6 +668,7 @@ void FixWallViscontact::post_force(int /*vflag*/)
     }
     store[i][0] = nstored[i] = n;
   }
+  if (meshwall) mesh_output();
   t0_restart = false;    // converted in the first force call after read_restart
 }
 
@@ -712,6 +729,7 @@ int FixWallViscontact::end_contacts(int i, const double *vplane)
 
 double FixWallViscontact::compute_vector(int k)
 {
+  if (k >= 3) return mesh_vector(k - 3);
   if (!wallforce_summed) {
     MPI_Allreduce(wallforce, wallforce_all, 3, MPI_DOUBLE, MPI_SUM, world);
     wallforce_summed = true;
@@ -731,12 +749,14 @@ void FixWallViscontact::write_restart(FILE *fp)
   if (comm->me != 0) return;
   int len = 0;
   if (region) region->length_restart_string(len);
+  if (meshwall) len += mesh_restart_size();
   const int size = static_cast<int>(2 * sizeof(bigint)) + len;
   const bigint marker = -WALL_RESTART_FORMAT;
   fwrite(&size, sizeof(int), 1, fp);
   fwrite(&marker, sizeof(bigint), 1, fp);
   fwrite(&time_origin, sizeof(bigint), 1, fp);
   if (region) region->write_restart(fp);
+  if (meshwall) mesh_write_restart(fp);
 }
 
 void FixWallViscontact::restart(char *buf)
@@ -755,6 +775,7 @@ void FixWallViscontact::restart(char *buf)
          "reads formats 2 and " + std::to_string(WALL_RESTART_FORMAT) + ": define the fix "
          "again after read_restart (its contacts then start afresh)");
   }
+  if (meshwall) mesh_restart(buf + n);
   if (region) {
     if (!region->restart(buf, n)) {
       if (comm->me == 0)

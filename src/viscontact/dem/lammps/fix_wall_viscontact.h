@@ -6,6 +6,8 @@
        WALL = xplane LO HI | yplane LO HI | zplane LO HI   (LO, HI a coordinate or NULL)
             | zcylinder R                                  (axis z through the origin)
             | region REGION-ID                             (any LAMMPS region, may move/rotate)
+            | mesh FILE [mesh keywords]                    (an STL triangle mesh, may move/rotate;
+                                                            fix_wall_viscontact_mesh.h)
 
    Defaults: normal hertz; `end force` with hertz, `end overlap` with dmt/jkr; heat needs
    temperature (and per-atom temperature/heatflow), temperature needs heat.
@@ -102,7 +104,7 @@ class FixWallViscontact : public Fix, public viscontact::EnergySource {
   const double *energy_elastic_atom() const override { return eel ? eel[0] : nullptr; }
 
  private:
-  enum Style { XPLANE = 0, YPLANE = 1, ZPLANE = 2, ZCYLINDER = 3, REGION = 4 };
+  enum Style { XPLANE = 0, YPLANE = 1, ZPLANE = 2, ZCYLINDER = 3, REGION = 4, MESH = 5 };
   int wallstyle;
   bool has_lo, has_hi;     // plane walls present (NULL: absent)
   double lo, hi, cylradius;
@@ -187,6 +189,22 @@ class FixWallViscontact : public Fix, public viscontact::EnergySource {
   void wall_motion(double &wlo, double &whi, double vplane[3]) const;
   bool touching(const viscontact::ContactModel &m, const Touch &c, double rad,
                 bool touched) const;
+
+  // the mesh style (fix_wall_viscontact_mesh.cpp)
+  struct MeshWall *meshwall = nullptr;
+  int mesh_parse(int narg, char **arg, int iarg);
+  void mesh_free();
+  void mesh_init();
+  bool mesh_moving() const;
+  void mesh_step();
+  void mesh_touches(int i);
+  void mesh_inherit(int i, int nold);
+  void mesh_tally(int i, const Touch &c, const double *f);
+  void mesh_output();
+  double mesh_vector(int k);
+  int mesh_restart_size() const;
+  void mesh_write_restart(FILE *fp);
+  void mesh_restart(const char *buf);
 
   [[noreturn]] void fail(const std::string &msg);
   int parse_wall(int narg, char **arg);

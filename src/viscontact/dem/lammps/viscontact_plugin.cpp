@@ -71,7 +71,7 @@ static const StyleEntry STYLES[] = {
      (lammpsplugin_factory1 *) &pair_viscontact_creator, nullptr},
     {"fix", "VISCONTACT_HISTORY", "viscontact: per-contact history of pair viscontact (internal)",
      nullptr, (lammpsplugin_factory2 *) &fix_viscontact_history_creator},
-    {"fix", "viscontact/wall", "viscontact: plane and cylinder walls with the viscontact laws",
+    {"fix", "viscontact/wall", "viscontact: plane, cylinder, region and mesh walls with the viscontact laws",
      nullptr, (lammpsplugin_factory2 *) &fix_wall_viscontact_creator},
     {"compute", "viscontact/energy", "viscontact: dissipated and elastic contact energy by mechanism",
      nullptr, (lammpsplugin_factory2 *) &compute_viscontact_energy_creator},
