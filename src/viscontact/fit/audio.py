@@ -220,6 +220,8 @@ def _drop_splitting_clicks(t: np.ndarray) -> np.ndarray:
     t = list(t)
     while len(t) >= 4:
         I = np.diff(t)
+        if np.any(I <= 0):  # coinciding onsets (min_spacing 0): no ratios to judge by
+            break
         r = I[1:] / I[:-1]
         ok = r[(r > 0) & (r < 1)]
         if ok.size == 0:
