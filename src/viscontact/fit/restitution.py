@@ -80,16 +80,17 @@ def model_e(law: str, v: Any, vref: float, alpha: Any, *, beta: Any = None, p: A
             end: str = "force") -> np.ndarray:
     """e at impact speeds ``v`` [m/s] of ``law`` with alpha_ref (and beta_ref, Jian) at
     ``vref``: e(alpha_ref (v/vref)^((4p-1)/5)[, beta_ref (v/vref)^(1/5)]).  Broadcasts ``v``
-    against the constants (for the power law ``p`` is one number)."""
+    against the constants (for the power law ``p`` is one number); alpha and beta above 1000
+    act as 1000."""
     spec = lookup(law)
     if spec.p is None:
         p = domain.check("p", p)
     pe = law_exponent(spec.name, p)
     s = float_array("v", v, lo=0.0, lo_open=True) / check_positive("vref", vref)
-    a = domain.check_array("alpha", alpha) * s ** ((4.0 * pe - 1.0) / 5.0)
+    a = float_array("alpha", alpha, lo=0.0) * s ** ((4.0 * pe - 1.0) / 5.0)
     a = np.minimum(a, 1000.0)
     if spec.needs_beta:
-        b = np.minimum(domain.check_array("beta", beta) * s ** 0.2, 1000.0)
+        b = np.minimum(float_array("beta", beta, lo=0.0) * s ** 0.2, 1000.0)
         return np.asarray(restitution(spec.name, a, beta=b, end=end))
     if spec.p is None:
         return np.asarray(restitution(spec.name, a, p=pe, end=end))
