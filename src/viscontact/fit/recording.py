@@ -137,7 +137,10 @@ def float_array(name: str, x: Any, *, lo: float | None = None, lo_open: bool = F
     if isinstance(x, (str, bytes, dict, set)) or x is None:
         raise ValueError(f"{name} must be {allowed}, got {x!r:.60}")
     try:
-        a = np.asarray(x, dtype=float)
+        raw = np.asarray(x)
+        if raw.dtype.kind not in "iufO":  # complex, bool, strings: not real numbers
+            raise TypeError
+        a = raw.astype(float)
     except (TypeError, ValueError, OverflowError):
         raise ValueError(f"{name} must be {allowed}, got {x!r:.60}") from None
     bad = ~np.isfinite(a)
