@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import tempfile
+import wave
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -61,6 +63,45 @@ def example_fit(law: str = "KK") -> fit.LawFit:
 
 
 _PHYS = dict(m_eff=0.1547, k_hertz=1.688e6, v=1.716)
+
+# small synthetic e(v) data: KK at alpha_ref 0.3 (vref 1 m/s), a ball dropped from ~0.1 m
+_V = np.array([0.5, 1.0, 1.5, 2.0])
+_E = fit.model_e("KK", _V, 1.0, 0.3)
+_E_SETS = np.stack([_E, _E * 0.99, np.minimum(_E * 1.01, 1.0)])
+# impact times of one drop: flights 2 u_k / g with u_k = 1.4 * 0.8^k m/s (no drag)
+_TIMES = np.concatenate([[0.0], np.cumsum(2.0 * 1.4 * 0.8 ** np.arange(5) / 9.80665)])
+_RATE = 8000.0
+_FILES: dict[str, str] = {}
+
+
+def _audio() -> np.ndarray:
+    """Clicks (decaying 2 kHz bursts) at the first four impact times, in quiet noise."""
+    n = int((_TIMES[3] + 0.05) * _RATE)
+    x = 1e-3 * np.random.default_rng(0).standard_normal(n)
+    t = np.arange(n) / _RATE
+    for t0 in _TIMES[:4]:
+        s = t - t0 - 0.01
+        x += np.where(s >= 0, 0.5 * np.sin(2 * np.pi * 2000 * s) * np.exp(-s / 2e-3), 0.0)
+    return x
+
+
+def data_file(kind: str) -> str:
+    """A small file of ``kind`` (restitution, bounces, drops, wav), written once to a temp dir."""
+    if not _FILES:
+        d = Path(tempfile.mkdtemp(prefix="viscontact-fuzz-"))
+        (d / "e.csv").write_text("v [m/s], e\n" + "".join(f"{v}, {e}\n" for v, e in zip(_V, _E)))
+        (d / "bounces.txt").write_text("".join(f"{t:.6f}\n" for t in _TIMES))
+        gaps = np.diff(_TIMES)
+        (d / "drops.csv").write_text("drop,interval [s]\n" + "".join(
+            f"{k},{g:.6f}\n" for k in (1, 2) for g in gaps))
+        with wave.open(str(d / "drop.wav"), "wb") as w:
+            w.setnchannels(1)
+            w.setsampwidth(2)
+            w.setframerate(int(_RATE))
+            w.writeframes((np.clip(_audio(), -1, 1) * 32767).astype("<i2").tobytes())
+        _FILES.update(restitution=str(d / "e.csv"), bounces=str(d / "bounces.txt"),
+                      drops=str(d / "drops.csv"), wav=str(d / "drop.wav"))
+    return _FILES[kind]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -155,6 +196,7 @@ def _targets() -> list[Target]:
                {"fit_k": True, "sweep_points": 3}, fuzz_kwargs=("fit_k", "sweep_points"),
                heavy=True),
         Target("Weights", fit.Weights, (1.0, 0.5, 0.0)),
+        *_restitution_targets(),
         Target("audit_formula", audit.audit_formula, ("flores", 0.5, "force")),
         Target("audit_engine", audit.audit_engine, ("lammps", "tsuji", 0.7),
                {"clamp": None, "value": 0.7}),
@@ -168,6 +210,37 @@ def _targets() -> list[Target]:
         Target("get_preset", audit.get_preset, ("lammps", "coeff_restitution")),
     ]
     return t
+
+
+def _restitution_targets() -> list[Target]:
+    """e(v) from a table, bounce timings and sound (viscontact.fit.restitution/bounces/audio)."""
+    data = fit.restitution_data(_V, _E)
+    return [
+        Target("model_e", fit.model_e, ("KK", _V, 1.0, 0.3), {"end": "force"}, returns="e"),
+        Target("model_e Jian", fit.model_e, ("Jian", 1.0, 1.0, 0.3), {"beta": 0.5},
+               returns="e"),
+        Target("model_e power", fit.model_e, ("power", _V, 1.0, 0.3), {"p": 0.8}, returns="e"),
+        Target("restitution_data", fit.restitution_data, (_V, _E),
+               {"sigma": np.full(4, 0.01), "tc": np.full(4, 1e-3), "source": "x"}),
+        Target("read_restitution", fit.read_restitution, (data_file("restitution"),)),
+        Target("fit_restitution", fit.fit_restitution, (data, ("KK",)),
+               {"end": "force", "vref": 1.0, "mass": 0.1, "k_hertz": 1e6}, heavy=True),
+        Target("fit_restitution_sets", fit.fit_restitution_sets, (_V, _E_SETS),
+               {"law": "Jian", "sigma": np.full(4, 0.01), "vref": 1.0, "end": "force"},
+               heavy=True),
+        Target("read_bounces", fit.read_bounces, (data_file("bounces"),)),
+        Target("read_drops", fit.read_drops, (data_file("drops"),)),
+        Target("reduce_bounces", fit.reduce_bounces, ([_TIMES, _TIMES * 1.01],),
+               {"k_drag": 0.01, "contact_time": 1e-4, "g": 9.81, "sources": ["a", "b"]}),
+        Target("drag_constant", fit.drag_constant, (2.7e-3, 0.02),
+               {"drag_coefficient": 0.47, "air_density": 1.2}),
+        Target("flight_time", fit.flight_time, ([0.5, 1.0], 0.05), {"g": 9.81}),
+        Target("landing_speed", fit.landing_speed, ([0.5, 1.0], 0.05), {"g": 9.81}),
+        Target("launch_speed", fit.launch_speed, ([0.1, 0.2], 0.05), {"g": 9.81}),
+        Target("read_audio", fit.read_audio, (data_file("wav"),)),
+        Target("detect_impacts", fit.detect_impacts, (_audio(), _RATE),
+               {"ratio": 4.0, "min_spacing": 0.01, "physics": True}),
+    ]
 
 
 TARGETS: list[Target] = []
@@ -206,6 +279,8 @@ def _walk(value: Any, where: str, seen: set[int], energy_tol: float) -> None:
     if isinstance(value, (Path, str, bytes, int, bool)) or value is None:
         return
     seen.add(id(value))
+    if where.endswith((".rejected", ".points")):
+        return  # the raw (v, e) of points left out (e >= 1, NaN: the reason says why)
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
         _check_contact(value, where, energy_tol)
         for f in dataclasses.fields(value):

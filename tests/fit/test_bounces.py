@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from viscontact.fit.bounces import (drag_constant, flight_time, launch_speed, read_bounces,
-                                    reduce_bounces)
+from viscontact.fit.bounces import (drag_constant, flight_time, landing_speed, launch_speed,
+                                    read_bounces, reduce_bounces)
 from viscontact.fit.recording import RecordingError
 from viscontact.fit.restitution import model_e
 
@@ -153,3 +153,16 @@ def test_bad_timing_files(tmp_path, text, msg):
     f.write_text(text)
     with pytest.raises(RecordingError, match=msg):
         read_bounces(f)
+
+
+def test_flight_limits_with_drag():
+    """With drag a fast ball lands at the terminal speed sqrt(g/k) (no overflow of u^2); a
+    flight longer than any finite launch speed gives is refused, not answered with NaN."""
+    k, g = 0.05, 9.81
+    assert landing_speed(1e300, k, g) == pytest.approx(math.sqrt(g / k), rel=1e-12)
+    T = flight_time(1e6, k, g)
+    assert launch_speed(T, k, g) == pytest.approx(1e6, rel=1e-9)
+    with pytest.raises(ValueError, match="no flight lasts longer"):
+        launch_speed(1e6, k, g)
+    with pytest.raises(ValueError, match="k .* must be in"):
+        flight_time(1.0, math.nan, g)

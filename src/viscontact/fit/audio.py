@@ -31,7 +31,9 @@ from typing import Any
 
 import numpy as np
 
-from .recording import RecordingError
+from ..physics import domain
+from ..physics.pair import check_positive
+from .recording import RecordingError, check_path, float_array
 
 __all__ = ["read_audio", "detect_impacts", "MAX_SECONDS"]
 
@@ -39,6 +41,8 @@ __all__ = ["read_audio", "detect_impacts", "MAX_SECONDS"]
 MAX_SECONDS = 600.0
 _HIGHPASS_HZ = 1000.0
 _FRAME_S = 0.25e-3
+#: sample rates accepted [Hz]: the 1 kHz high-pass needs > 2 kHz; 10 MHz is beyond any recorder
+_MIN_RATE, _MAX_RATE = 4000.0, 1e7
 
 
 def read_audio(path: str | Path) -> tuple[np.ndarray, float]:
@@ -49,7 +53,7 @@ def read_audio(path: str | Path) -> tuple[np.ndarray, float]:
     mp3, ogg, ...) are decoded by ffmpeg where it is installed; without it one error says how
     to convert.  RecordingError names what is wrong.
     """
-    p = Path(path)
+    p = check_path(path)
     if not p.is_file():
         raise RecordingError(f"{path}: no such file")
     if p.suffix.lower() in (".wav", ".wave"):
@@ -152,7 +156,18 @@ def detect_impacts(x: Any, rate: float, *, ratio: float = 4.0, min_spacing: floa
     that split one flight into two (module docstring, step 4)."""
     from scipy.ndimage import median_filter
 
-    y = _highpass(np.asarray(x, dtype=float), rate)
+    x = float_array("x (the samples)", x)
+    if x.ndim != 1:
+        raise ValueError(f"x must be one channel (a 1-D array of samples), got shape {x.shape}")
+    rate = check_positive("rate", rate)
+    if not _MIN_RATE <= rate <= _MAX_RATE:
+        raise ValueError(f"rate must be in [{_MIN_RATE:g}, {_MAX_RATE:g}] Hz, got {rate:g}")
+    ratio = check_positive("ratio", ratio)
+    min_spacing = domain.check_number("min_spacing", min_spacing)
+    if not 0.0 <= min_spacing <= MAX_SECONDS:
+        raise ValueError(f"min_spacing must be in [0, {MAX_SECONDS:g}] s, got {min_spacing!r}")
+    physics = domain.check_bool("physics", physics)
+    y = _highpass(x, rate)
     hop = max(1, int(round(rate * _FRAME_S)))
     nf = y.size // hop
     if nf < 8:
@@ -205,6 +220,8 @@ def _drop_splitting_clicks(t: np.ndarray) -> np.ndarray:
     t = list(t)
     while len(t) >= 4:
         I = np.diff(t)
+        if np.any(I <= 0):  # coinciding onsets (min_spacing 0): no ratios to judge by
+            break
         r = I[1:] / I[:-1]
         ok = r[(r > 0) & (r < 1)]
         if ok.size == 0:

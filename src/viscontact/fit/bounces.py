@@ -29,8 +29,9 @@ from typing import Any
 
 import numpy as np
 
-from ..physics.pair import STANDARD_GRAVITY
-from .recording import RecordingError
+from ..physics import domain
+from ..physics.pair import STANDARD_GRAVITY, check_positive
+from .recording import RecordingError, check_path, float_array
 from .restitution import RestitutionData, restitution_data
 
 __all__ = ["read_bounces", "read_drops", "drag_constant", "flight_time", "landing_speed", "launch_speed",
@@ -47,7 +48,7 @@ _BOUNCE_COL = re.compile(r"^\s*\"?\s*(?:bounce|time)\s*(\d+)\s*\(s\)\s*\"?\s*$",
 def _lines(path: str | Path) -> list[str]:
     """The file's non-empty lines, '#' comments removed."""
     try:
-        text = Path(path).read_text(encoding="utf-8-sig")
+        text = check_path(path).read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError) as exc:
         raise RecordingError(f"{path}: cannot read the file ({exc})") from None
     lines = [ln.split("#", 1)[0].strip() for ln in text.splitlines()]
@@ -153,13 +154,16 @@ def _check_times(path: Any, t: np.ndarray) -> None:
 def drag_constant(mass: float, radius: float, *, drag_coefficient: float = DRAG_COEFFICIENT,
                   air_density: float = AIR_DENSITY) -> float:
     """k = rho_air C_d pi R^2 / (2 m) [1/m] of the quadratic drag force m k v^2."""
+    mass, radius = domain.check("mass", mass), domain.check("radius", radius)
+    drag_coefficient = check_positive("drag_coefficient", drag_coefficient)
+    air_density = check_positive("air_density", air_density)
     return air_density * drag_coefficient * math.pi * radius ** 2 / (2.0 * mass)
 
 
 def flight_time(u: Any, k: float, g: float = STANDARD_GRAVITY) -> np.ndarray:
     """Time of a vertical flight launched at speed u [m/s] back to the launch height:
     (atan z + asinh z) / sqrt(g k), z = u sqrt(k/g); 2 u / g at k = 0."""
-    u = np.asarray(u, dtype=float)
+    u, k, g = _flight_args("u", u, k, g)
     if k == 0:
         return 2.0 * u / g
     z = u * math.sqrt(k / g)
@@ -168,8 +172,17 @@ def flight_time(u: Any, k: float, g: float = STANDARD_GRAVITY) -> np.ndarray:
 
 def landing_speed(u: Any, k: float, g: float = STANDARD_GRAVITY) -> np.ndarray:
     """Speed at the launch height after a vertical flight launched at u: u / sqrt(1 + k u^2/g)."""
-    u = np.asarray(u, dtype=float)
-    return u / np.sqrt(1.0 + k * u * u / g)
+    u, k, g = _flight_args("u", u, k, g)
+    return u / np.hypot(1.0, u * math.sqrt(k / g))  # hypot: no overflow of u^2
+
+
+def _flight_args(name: str, x: Any, k: Any, g: Any) -> tuple[np.ndarray, float, float]:
+    """Speeds or times ``x`` (finite, >= 0), drag constant k (finite, >= 0 [1/m]), gravity g
+    (the domain's range [m/s^2]); ValueError names the bad one."""
+    k = domain.check_number("k", k)
+    if not (math.isfinite(k) and 0.0 <= k <= 1e6):
+        raise ValueError(f"k (the drag constant) must be in [0, 1e6] 1/m, got {k!r}")
+    return float_array(name, x, lo=0.0), k, domain.check("gravity", g, label="g")
 
 
 def launch_speed(T: Any, k: float, g: float = STANDARD_GRAVITY) -> np.ndarray:
@@ -177,13 +190,18 @@ def launch_speed(T: Any, k: float, g: float = STANDARD_GRAVITY) -> np.ndarray:
 
     T(u) is increasing and concave, so Newton from g T / 2 (below the root) climbs to it
     monotonically; dT/du = (1/(1 + z^2) + 1/sqrt(1 + z^2)) / g."""
-    T = np.asarray(T, dtype=float)
+    T, k, g = _flight_args("T", T, k, g)
     u = g * T / 2.0
     if k == 0:
         return u
-    for _ in range(60):
-        z = u * math.sqrt(k / g)
-        du = (flight_time(u, k, g) - T) / ((1.0 / (1.0 + z * z) + 1.0 / np.sqrt(1.0 + z * z)) / g)
+    # T(u) -> (pi/2 + ln 2z) / sqrt(g k) at large z: a longer flight needs u beyond any float
+    t_max = (math.pi / 2 + math.log(2 * 1e300 * math.sqrt(k / g))) / math.sqrt(g * k)
+    if np.any(T > t_max):
+        raise ValueError(f"T = {float(np.max(T)):g} s: with drag k = {k:g} 1/m no flight lasts "
+                         f"longer than {t_max:.4g} s (give a shorter flight or a smaller k)")
+    for _ in range(200):
+        h = np.hypot(1.0, u * math.sqrt(k / g))
+        du = (flight_time(u, k, g) - T) / ((1.0 / (h * h) + 1.0 / h) / g)
         u = u - du
         if np.all(np.abs(du) <= 1e-15 * np.maximum(u, 1e-300)):
             break
@@ -262,10 +280,18 @@ def reduce_bounces(
     nothing off (the intervals are the flights).  Points that break the physics are left out
     and listed in ``rejected`` with the reason.
     """
+    drops, sources = _drops_args(drops, sources)
+    k_drag = _flight_args("k_drag", 0.0, k_drag, g)[1]
+    g = domain.check("gravity", g, label="g")
+    if contact_time is not None and not callable(contact_time):
+        if isinstance(contact_time, bool) or np.ndim(contact_time) != 0:
+            raise ValueError(f"contact_time must be None, a number >= 0 [s] or a function of v, "
+                             f"got {contact_time!r:.60}")
+        contact_time = float(float_array("contact_time", contact_time, lo=0.0))
     vs, es, drop_of, rejected, points, impacts = [], [], [], [], [], []
     for d, times in enumerate(drops):
         src = sources[d] if sources else f"drop {d + 1}"
-        t = np.asarray(times, dtype=float)
+        t = float_array(f"the impact times of {src}", times).reshape(-1)
         _check_times(src, t)
         impacts.append([float(x) for x in t])
         I = np.diff(t)
@@ -297,6 +323,20 @@ def reduce_bounces(
     data = restitution_data(vs, es, source=", ".join(sources) if sources else "bounces",
                             drop=drop_of)
     return Reduction(data, rejected, impacts, notes, points)
+
+
+def _drops_args(drops: Any, sources: Any) -> tuple[list[Any], list[str] | None]:
+    """The drops as a list (one array of impact times each) and their names, checked."""
+    if isinstance(drops, np.ndarray) and drops.ndim == 2:
+        drops = list(drops)
+    if not isinstance(drops, (list, tuple)) or not drops:
+        raise ValueError(f"drops must be a non-empty list of arrays of impact times [s], got "
+                         f"{drops!r:.60}")
+    if sources is not None and (not isinstance(sources, (list, tuple)) or len(sources) != len(drops)
+                                or not all(isinstance(s, str) for s in sources)):
+        raise ValueError(f"sources must be None or one name (str) per drop ({len(drops)}), got "
+                         f"{sources!r:.60}")
+    return list(drops), (list(sources) if sources else None)
 
 
 def _reduce(I: np.ndarray, k: float, contact_time: Any, g: float) -> tuple[np.ndarray, np.ndarray]:

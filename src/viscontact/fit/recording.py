@@ -17,6 +17,7 @@ Units inside are SI (s, N, m, kg); the file's units come from its header (``time
 from __future__ import annotations
 
 import math
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -119,6 +120,35 @@ def _columns(path: str, lineno: int, names: list[str]) -> tuple[int, int]:
         raise RecordingError(f"{path}: line {lineno}: no {missing} column in the header "
                              f"({', '.join(names)}); name them e.g. 'time [ms]' and 'force [N]'")
     return t_col, f_col
+
+
+def check_path(path: Any) -> Path:
+    """``path`` as a Path if it is a str or os.PathLike, else RecordingError."""
+    if isinstance(path, bytes) or not isinstance(path, (str, os.PathLike)):
+        raise RecordingError(f"a file is named by a path (str or pathlib.Path), got {path!r:.60}")
+    return Path(path)
+
+
+def float_array(name: str, x: Any, *, lo: float | None = None, lo_open: bool = False
+                ) -> np.ndarray:
+    """``x`` as a float array of finite real numbers (>= lo, or > lo with ``lo_open``), else
+    ValueError naming ``name`` and what is allowed."""
+    allowed = "finite real numbers" + ("" if lo is None else f" {'>' if lo_open else '>='} {lo:g}")
+    if isinstance(x, (str, bytes, dict, set)) or x is None:
+        raise ValueError(f"{name} must be {allowed}, got {x!r:.60}")
+    try:
+        raw = np.asarray(x)
+        if raw.dtype.kind not in "iufO":  # complex, bool, strings: not real numbers
+            raise TypeError
+        a = raw.astype(float)
+    except (TypeError, ValueError, OverflowError):
+        raise ValueError(f"{name} must be {allowed}, got {x!r:.60}") from None
+    bad = ~np.isfinite(a)
+    if lo is not None:
+        bad |= (a <= lo) if lo_open else (a < lo)
+    if bad.any():
+        raise ValueError(f"{name} must be {allowed}, got {a[bad].ravel()[0]!r}")
+    return a
 
 
 def read_recording(path: str | Path, *, time_unit: str | None = None,

@@ -39,7 +39,9 @@ from ..collision.single import check_end
 from ..physics.laws import Jian, Power, lookup
 from ..physics.pair import damping_unit, time_scale
 from .fitting import FIT_LAWS
-from .recording import RecordingError
+from ..physics import domain
+from ..physics.pair import check_positive
+from .recording import RecordingError, check_path, float_array
 
 __all__ = ["RestitutionData", "RestitutionLawFit", "RestitutionFit", "read_restitution",
            "restitution_data", "fit_restitution", "fit_restitution_sets", "law_exponent",
@@ -78,14 +80,17 @@ def model_e(law: str, v: Any, vref: float, alpha: Any, *, beta: Any = None, p: A
             end: str = "force") -> np.ndarray:
     """e at impact speeds ``v`` [m/s] of ``law`` with alpha_ref (and beta_ref, Jian) at
     ``vref``: e(alpha_ref (v/vref)^((4p-1)/5)[, beta_ref (v/vref)^(1/5)]).  Broadcasts ``v``
-    against the constants (for the power law ``p`` is one number)."""
+    against the constants (for the power law ``p`` is one number); alpha and beta above 1000
+    act as 1000."""
     spec = lookup(law)
+    if spec.p is None:
+        p = domain.check("p", p)
     pe = law_exponent(spec.name, p)
-    s = np.asarray(v, dtype=float) / vref
-    a = np.asarray(alpha, dtype=float) * s ** ((4.0 * pe - 1.0) / 5.0)
+    s = float_array("v", v, lo=0.0, lo_open=True) / check_positive("vref", vref)
+    a = float_array("alpha", alpha, lo=0.0) * s ** ((4.0 * pe - 1.0) / 5.0)
     a = np.minimum(a, 1000.0)
     if spec.needs_beta:
-        b = np.minimum(np.asarray(beta, dtype=float) * s ** 0.2, 1000.0)
+        b = np.minimum(float_array("beta", beta, lo=0.0) * s ** 0.2, 1000.0)
         return np.asarray(restitution(spec.name, a, beta=b, end=end))
     if spec.p is None:
         return np.asarray(restitution(spec.name, a, p=pe, end=end))
@@ -124,6 +129,8 @@ def restitution_data(v: Any, e: Any, *, sigma: Any = None, tc: Any = None, sourc
                      drop: Any = None) -> RestitutionData:
     """Validated :class:`RestitutionData`: v > 0 finite, e in (0, 1], sigma > 0, tc > 0, one
     length; at least two points.  ValueError names the first bad value."""
+    if not isinstance(source, str):
+        raise ValueError(f"source must be a str (where the points came from), got {source!r:.60}")
     v_a = _column("v", v, positive=True)
     e_a = _column("e", e, positive=True)
     n = v_a.size
@@ -145,7 +152,7 @@ def restitution_data(v: Any, e: Any, *, sigma: Any = None, tc: Any = None, sourc
 def _column(name: str, x: Any, *, positive: bool, n: int | None = None) -> np.ndarray:
     try:
         a = np.asarray(x, dtype=float).ravel()
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ValueError(f"{name} must be numbers, got {x!r}") from None
     if n is not None and a.size != n:
         raise ValueError(f"{name} has {a.size} values for {n} points; give one per point")
@@ -168,7 +175,7 @@ def read_restitution(path: str | Path) -> RestitutionData:
     header the columns are v [m/s], e[, sigma_e[, tc [s]]].  Rows at one speed are replicates.
     RecordingError (a ValueError) says what is wrong with the file.
     """
-    p = Path(path)
+    p = check_path(path)
     try:
         text = p.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError) as exc:
@@ -387,14 +394,15 @@ class SetFits:
     """One law fitted to many data sets at once (:func:`fit_restitution_sets`).
 
     Arrays over the sets: ``alpha``, ``alpha_err``, ``second`` and ``second_err`` (beta_ref for
-    Jian, p for power, NaN otherwise), ``aicc``, ``rms``."""
+    Jian, p for power, None for one-parameter laws), ``aicc`` (None with fewer than k + 2
+    speeds), ``rms``."""
 
     law: str
     alpha: np.ndarray
     alpha_err: np.ndarray
-    second: np.ndarray
-    second_err: np.ndarray
-    aicc: np.ndarray
+    second: np.ndarray | None
+    second_err: np.ndarray | None
+    aicc: np.ndarray | None
     rms: np.ndarray
 
 
@@ -443,12 +451,26 @@ def fit_restitution_sets(v: Any, e_sets: Any, *, law: str, sigma: Any = None,
     """
     check_end(end)
     name = lookup(law).name
-    v_a = np.asarray(v, dtype=float)
-    E = np.atleast_2d(np.asarray(e_sets, dtype=float))
-    S, n = E.shape
-    vref = _default_vref(v_a) if vref is None else float(vref)
+    v_a = float_array("v", v, lo=0.0, lo_open=True)
+    E = np.atleast_2d(float_array("e_sets", e_sets, lo=0.0, lo_open=True))
+    n = v_a.size
+    if v_a.ndim != 1 or E.ndim != 2 or E.shape[1] != n or E.size == 0:
+        raise ValueError(f"e_sets must have shape (S, n) for the n = {n} speeds v (a 1-D array), "
+                         f"got v of shape {v_a.shape} and e_sets of shape {E.shape}")
+    if np.any(E > 1.0):
+        raise ValueError(f"e_sets must lie in (0, 1], got {float(E.max())!r}")
+    if n <= _n_params(name):
+        raise ValueError(f"{name} has {_n_params(name)} parameters: give more than that many "
+                         f"speeds, got {n}")
+    S = E.shape[0]
+    vref = _default_vref(v_a) if vref is None else check_positive("vref", vref)
     known = sigma is not None
-    w = np.ones(n) if sigma is None else 1.0 / np.asarray(sigma, dtype=float) ** 2
+    w = np.ones(n)
+    if sigma is not None:
+        sd = float_array("sigma", sigma, lo=0.0, lo_open=True)
+        if sd.shape != (n,):
+            raise ValueError(f"sigma must hold one number > 0 per speed ({n}), got shape {sd.shape}")
+        w = 1.0 / sd ** 2
     b = _Batch(name, np.tile(v_a, (S, 1)), E, np.tile(w, (S, 1)), vref, end)
     theta, m, A = _lm(b)
     k = theta.shape[1]
@@ -456,7 +478,7 @@ def fit_restitution_sets(v: Any, e_sets: Any, *, law: str, sigma: Any = None,
     cov = _errors(A, chi2, n, k, known)
     sd = np.sqrt(np.maximum(np.diagonal(cov, axis1=1, axis2=2), 0.0))
     alpha = np.exp(theta[:, 0])
-    second, second_err = np.full(S, np.nan), np.full(S, np.nan)
+    second = second_err = None
     if k > 1:
         if lookup(name).needs_beta:
             second, second_err = np.exp(theta[:, 1]), np.exp(theta[:, 1]) * sd[:, 1]
@@ -464,7 +486,7 @@ def fit_restitution_sets(v: Any, e_sets: Any, *, law: str, sigma: Any = None,
             second, second_err = theta[:, 1], sd[:, 1]
     rms = np.sqrt(np.mean((m - E) ** 2, axis=1))
     return SetFits(name, alpha, alpha * sd[:, 0], second, second_err,
-                   _aicc(chi2, n, k, known), rms)
+                   _aicc(chi2, n, k, known) if n >= k + 2 else None, rms)
 
 
 def _default_vref(v: np.ndarray) -> float:
@@ -596,6 +618,13 @@ def fit_restitution(
     check_end(end)
     if not isinstance(data, RestitutionData):
         raise ValueError("data must be RestitutionData (read_restitution or restitution_data)")
+    if isinstance(laws, str):
+        laws = (laws,)
+    if not isinstance(laws, (list, tuple)) or not all(isinstance(x, str) for x in laws):
+        raise ValueError(f"laws must be law names ({', '.join(RES_LAWS)}), got {laws!r:.60}")
+    vref = None if vref is None else check_positive("vref", vref)
+    mass = None if mass is None else domain.check("mass", mass)
+    k_hertz = None if k_hertz is None else domain.check("k_hertz", k_hertz)
     names = list(dict.fromkeys(lookup(x).name for x in laws))
     if not names:
         raise ValueError(f"give at least one law ({', '.join(RES_LAWS)})")
