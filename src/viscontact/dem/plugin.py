@@ -187,13 +187,16 @@ def _check_packages(exe: str, out: str) -> None:
         raise PluginError(f"this LAMMPS ({exe}) lacks the package(s) {', '.join(missing)}; {_INSTALL}")
 
 
-def _build(target: Path, cmd_sources: list[Path], extra: list[str], progress) -> Path:
-    """Compile into ``target`` atomically under a lock (double-checked)."""
+def _build(target: Path, cmd_sources: list[Path], extra: list[str], progress,
+           force: bool = False) -> Path:
+    """Compile into ``target`` atomically under a lock (double-checked unless ``force``).  The
+    new library replaces the old one in one rename, so a LAMMPS run loading it at the same
+    moment finds the old file or the new one, never none."""
     target.parent.mkdir(parents=True, exist_ok=True)
     with open(target.parent / ".lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         try:
-            if target.is_file():
+            if target.is_file() and not force:
                 return target
             cxx = _compiler()
             if progress:
@@ -242,9 +245,7 @@ def plugin_path(rebuild: bool = False, progress=None) -> Path:
     cxx = _compiler()
     key = _key([lammps_version(), _compiler_version(cxx), "plugin"], files)
     target = _cache_dir() / "lammps-plugin" / key / _PLUGIN_NAME
-    if rebuild and target.is_file():
-        target.unlink()
-    if not target.is_file():
+    if rebuild or not target.is_file():
         exe, help_text = _lmp_help()
         _check_packages(exe, help_text)
         cpp = [f for f in files if f.suffix == ".cpp" and f.name != _KERNEL_SOURCE]
@@ -252,7 +253,7 @@ def plugin_path(rebuild: bool = False, progress=None) -> Path:
         flags = [_integer_sizes_define(help_text), f"-I{inc}", f"-I{source_dir()}"]
         if mpi is not None:
             flags.append(f"-I{mpi}")
-        _build(target, cpp, flags, progress)
+        _build(target, cpp, flags, progress, force=rebuild)
     return target.resolve()
 
 
@@ -263,10 +264,9 @@ def kernel_library_path(rebuild: bool = False) -> Path:
     cxx = _compiler()
     key = _key([_compiler_version(cxx), "kernel"], files)
     target = _cache_dir() / "lammps-plugin" / key / _KERNEL_NAME
-    if rebuild and target.is_file():
-        target.unlink()
-    if not target.is_file():
-        _build(target, [source_dir() / _KERNEL_SOURCE], [f"-I{source_dir()}"], None)
+    if rebuild or not target.is_file():
+        _build(target, [source_dir() / _KERNEL_SOURCE], [f"-I{source_dir()}"], None,
+               force=rebuild)
     return target.resolve()
 
 

@@ -166,6 +166,34 @@ def test_concurrent_first_builds_share_one_library(tmp_path):
     ctypes.CDLL(paths.pop()).vc_relaxation  # loads
 
 
+@needs_compiler
+def test_rebuild_replaces_the_library_in_one_rename(tmp_path, monkeypatch):
+    """``rebuild`` (``viscontact dem plugin --rebuild``) compiles anew and renames the result
+    over the old file: a run loading the library meanwhile (another xdist worker's LAMMPS, a
+    user's second terminal) always finds one; the old code unlinked it first."""
+    import threading
+
+    monkeypatch.setenv("VISCONTACT_CACHE_DIR", str(tmp_path))
+    path = plugin.kernel_library_path()
+    before = path.stat().st_ino
+    missing, done = [], threading.Event()
+
+    def watch():
+        while not done.is_set():
+            if not path.is_file():
+                missing.append(True)
+
+    watcher = threading.Thread(target=watch)
+    watcher.start()
+    try:
+        again = plugin.kernel_library_path(rebuild=True)
+    finally:
+        done.set()
+        watcher.join()
+    assert again == path and path.stat().st_ino != before  # rebuilt, in place
+    assert not missing
+
+
 def test_no_compiler_is_one_line(monkeypatch):
     monkeypatch.setenv("CXX", "/nonexistent/g++")
     with pytest.raises(plugin.PluginError) as info:
