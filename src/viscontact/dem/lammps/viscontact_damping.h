@@ -109,7 +109,7 @@ struct DampingLaw {
       if (s.advance && !s.fresh) h[0] = h[0] * s.cc->decay + s.cc->rise;
       grel = h[0];
     }
-    s.eta_n = s.cc->c0 * grel * overlap_power(s.delta_a, law.p);
+    s.eta_n = s.cc->c0 * grel * law_overlap_power(law.law, s.delta_a, law.p);
     const double fd = s.eta_n * -s.vn;
     s.fn = s.fne + fd;
     if (law.clamp && s.fn < 0.0) s.fn = 0.0;
