@@ -494,8 +494,9 @@ void FixWallViscontact::find_touches(int i, double wlo, double whi, const double
    energy to atom i.
 ------------------------------------------------------------------------- */
 
-void FixWallViscontact::contact(int i, double *h, const Touch &c, bool update_history,
-                                double t_now)
+VISCONTACT_ALWAYS_INLINE void FixWallViscontact::contact(int i, double *h, const Touch &c,
+                                                         bool update_history, double dt,
+                                                         double t_now)
 {
   const int type = atom->type[i];
   const viscontact::ContactModel &m = type_model[type];
@@ -514,7 +515,7 @@ void FixWallViscontact::contact(int i, double *h, const Touch &c, bool update_hi
   // native fix wall/gran(/region); m* = m (or the rigid body's mass)
   g.reff = effective_radius(r, c.rwall);
   g.meff = masses.mass(i, atom->rmass);
-  g.dt = update->dt;
+  g.dt = dt;
   g.t_now = t_now;
   if (heat_on) {
     g.T_i = atom->temperature[i];
@@ -577,7 +578,8 @@ void FixWallViscontact::post_force(int /*vflag*/)
 {
   // history advances only on regular steps (not in a run's setup), as LAMMPS granular
   const bool update_history = !update->setupflag;
-  const double t_now = viscontact::time_now(update);
+  // (read once: stores to forces and histories could alias update's doubles)
+  const double dt = update->dt, t_now = viscontact::time_now(update);
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
 
@@ -646,7 +648,7 @@ void FixWallViscontact::post_force(int /*vflag*/)
       if (stored) {
         goes_on[(stored - 1 - slot(i, 0)) / slotsize] = 1;
         ngoing++;
-        contact(i, stored, c, update_history, t_now);
+        contact(i, stored, c, update_history, dt, t_now);
       } else {
         fresh[nfresh++] = t;    // new: after the ended contacts have left their slots
       }
@@ -664,7 +666,7 @@ void FixWallViscontact::post_force(int /*vflag*/)
       double *h = slot(i, n);
       h[0] = c.iwall;
       for (int v = 0; v < hsize; v++) h[1 + v] = 0.0;
-      contact(i, h + 1, c, update_history, t_now);
+      contact(i, h + 1, c, update_history, dt, t_now);
     }
     store[i][0] = nstored[i] = n;
   }

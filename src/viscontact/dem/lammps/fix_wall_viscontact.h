@@ -212,7 +212,8 @@ class FixWallViscontact : public Fix, public viscontact::EnergySource {
   size_t parse_motion(const std::vector<std::string> &args, size_t i);
   double parse_coordinate(const std::string &key, const char *text, bool &present);
   int parse_dim(const std::string &key, const std::string &text);
-  void contact(int i, double *hist, const Touch &c, bool update_history, double t_now);
+  void contact(int i, double *hist, const Touch &c, bool update_history, double dt,
+               double t_now);
   int end_contacts(int i, const double *vplane = nullptr);
   double effective_radius(double r, double rwall) const
   {

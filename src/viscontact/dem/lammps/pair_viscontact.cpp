@@ -362,9 +362,11 @@ double PairViscontact::init_one(int i, int j)
   return cut;
 }
 
-/* The geometry and kinematics of the pair (i, j), dx = x_i - x_j, for the contact step. */
+/* The geometry and kinematics of the pair (i, j), dx = x_i - x_j, for the contact step at time
+   t_now with time step dt (read from update once per force call: stores to the forces and
+   histories could alias update's doubles, so a read per contact would be a load per contact). */
 VISCONTACT_ALWAYS_INLINE void PairViscontact::pair_geometry(int i, int j, const double dx[3], double rsq, double meff,
-                                   vc::ContactGeometry &g) const
+                                   double dt, double t_now, vc::ContactGeometry &g) const
 {
   double **v = atom->v, **omega = atom->omega;
   const double radi = atom->radius[i], radj = atom->radius[j];
@@ -380,8 +382,8 @@ VISCONTACT_ALWAYS_INLINE void PairViscontact::pair_geometry(int i, int j, const 
   g.r_j = radj;
   g.reff = radi * radj / (radi + radj);
   g.meff = meff;
-  g.dt = update->dt;
-  g.t_now = vc::time_now(update);
+  g.dt = dt;
+  g.t_now = t_now;
   g.wall = false;
   g.coeffs = nullptr;
   if (heat_on) {
@@ -434,11 +436,12 @@ void PairViscontact::refresh_atoms()
   }
 }
 
-/* One contact's force, torques and heat flow to i and (both_sides) to j. */
-VISCONTACT_ALWAYS_INLINE void PairViscontact::apply(int i, int j, bool both_sides,
-                                                    const vc::ContactResult &res, double *heatflow)
+/* One contact's force, torques and heat flow to i and (both_sides) to j (f, torque, heatflow:
+   the atoms' arrays, read once per force call). */
+VISCONTACT_ALWAYS_INLINE void PairViscontact::apply(double **f, double **torque, double *heatflow,
+                                                    int i, int j, bool both_sides,
+                                                    const vc::ContactResult &res)
 {
-  double **f = atom->f, **torque = atom->torque;
   const double *F = res.force;
   f[i][0] += F[0];
   f[i][1] += F[1];
@@ -462,7 +465,7 @@ void PairViscontact::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
 
-  double **x = atom->x;
+  double **x = atom->x, **f = atom->f, **torque = atom->torque;
   const double *radius = atom->radius, *rmass = atom->rmass;
   const int *type = atom->type;
   const int nlocal = atom->nlocal;
@@ -476,12 +479,12 @@ void PairViscontact::compute(int eflag, int vflag)
   double *heatflow = heat_on ? atom->heatflow : nullptr;
   EnergyTally *tally = energy_begin();
   const double *special_lj = force->special_lj;
+  const bool t0_convert = t0_restart;
+  const double dt = update->dt, t_now = vc::time_now(update);
 
   const int inum = list->inum;
   const int *ilist = list->ilist, *numneigh = list->numneigh;
   int **firstneigh = list->firstneigh;
-  vc::ContactGeometry g;
-  vc::ContactResult res;
 
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
@@ -514,21 +517,26 @@ void PairViscontact::compute(int eflag, int vflag)
         if (fl[jj]) {
           if (tally && history_update) {
             // the last forces' second half-work, on this step's velocities
-            pair_geometry(i, j, dx, rsq, masses.pair_meff(i, j, rmass, mask), g);
-            tally->add_release(i, j, nlocal, newton_pair, m, h, factor_lj, &g);
+            vc::ContactGeometry now;
+            pair_geometry(i, j, dx, rsq, masses.pair_meff(i, j, rmass, mask), dt, t_now, now);
+            tally->add_release(i, j, nlocal, newton_pair, m, h, factor_lj, &now);
           }
           fl[jj] = 0;
           for (int k = 0; k < dnum; k++) h[k] = 0.0;
         }
         continue;
       }
-      pair_geometry(i, j, dx, rsq, masses.pair_meff(i, j, rmass, mask), g);
-      g.coeffs = &coeffs_of(i, j, itype, jtype, g.meff, g.reff);
+      // (g and res are this contact's alone, their addresses never taken: the compiler keeps
+      // them in registers and folds g.wall)
+      vc::ContactGeometry g;
+      vc::ContactResult res;
+      pair_geometry(i, j, dx, rsq, masses.pair_meff(i, j, rmass, mask), dt, t_now, g);
+      g.coeffs = &coeffs_of(i, j, itype, jtype, g.meff, g.reff, dt);
       // a contact begins (its history is initialised) when first found touching, in a run's
       // setup too, and keeps what setup writes (the Coulomb caps): native pair granular marks
       // it touching there, so a jkr contact stretched in the first step keeps its attraction
       if (!fl[jj]) h[0] = 0.0;
-      else if (t0_restart) m.relaxation_from_start_time(h, *g.coeffs, g.t_now);
+      else if (t0_convert) m.relaxation_from_start_time(h, *g.coeffs, g.t_now);
       m.evaluate(g, h, history_update, res);
       fl[jj] = 1;
       if (factor_lj != 1.0) res.scale(factor_lj);
@@ -537,7 +545,7 @@ void PairViscontact::compute(int eflag, int vflag)
                    "is not finite (overlap {}); check the time step and the pair_coeff values",
                    atom->tag[i], atom->tag[j], g.delta));
 
-      apply(i, j, newton_pair || j < nlocal, res, heatflow);
+      apply(f, torque, heatflow, i, j, newton_pair || j < nlocal, res);
       // (a run's setup: its elastic energies only, the state the run starts from)
       if (tally) tally->add_pair(i, j, nlocal, newton_pair, res);
       if (evflag)
@@ -584,7 +592,8 @@ double PairViscontact::single(int i, int j, int itype, int jtype, double rsq, do
   const double dx[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
   vc::ContactGeometry g;
   vc::ContactResult res;
-  pair_geometry(i, j, dx, rsq, masses.pair_meff(i, j, atom->rmass, atom->mask), g);
+  pair_geometry(i, j, dx, rsq, masses.pair_meff(i, j, atom->rmass, atom->mask), update->dt,
+                vc::time_now(update), g);
   const int es = m.history_slots().energy;
   const double stored = es >= 0 ? hist[es] : 0.0;
   m.evaluate(g, hist, false, res);

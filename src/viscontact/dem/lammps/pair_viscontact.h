@@ -105,18 +105,18 @@ class PairViscontact : public Pair {
   EnergyTally *energy_begin();
   void energy_end(EnergyTally *t, bool advance);
   void refresh_atoms();
-  void apply(int i, int j, bool both_sides, const viscontact::ContactResult &res,
-             double *heatflow);
-  void pair_geometry(int i, int j, const double dx[3], double rsq, double meff,
-                     viscontact::ContactGeometry &g) const;
+  static void apply(double **f, double **torque, double *heatflow, int i, int j, bool both_sides,
+                    const viscontact::ContactResult &res);
+  void pair_geometry(int i, int j, const double dx[3], double rsq, double meff, double dt,
+                     double t_now, viscontact::ContactGeometry &g) const;
   /// k, c0, tau (and the relaxation's step factors) of a contact; most packings have one or
   /// two kinds of contact: the entry of the last lookup is tried first
   const viscontact::ContactCoeffs &coeffs_of(int i, int j, int itype, int jtype, double meff,
-                                             double reff)
+                                             double reff, double dt)
   {
     const CoeffCache *e = last_coeffs;
     if (e && e->itype == itype && e->jtype == jtype && e->meff == meff && e->reff == reff &&
-        e->cc.step == update->dt)
+        e->cc.step == dt)
       return e->cc;
     return coeffs_lookup(i, j, itype, jtype, meff, reff);
   }

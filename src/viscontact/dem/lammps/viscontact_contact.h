@@ -102,7 +102,7 @@ inline bool parse_law(const std::string &name, Law &law)
 
 /// Damping exponent p of a fixed law (LH 0, Ts 1/4, KK 1/2, Li 1, Hunt 3/2, Jian 1/2);
 /// -1 for `power`, whose p the user gives.
-inline double law_exponent(Law law)
+constexpr double law_exponent(Law law)
 {
   for (const LawInfo &r : LAW_TABLE)
     if (r.law == law) return r.p;
@@ -177,19 +177,44 @@ inline double relaxation(double t, double tau)
 
 /// delta^p for delta >= 0 with fast paths for the laws' exponents and the power law's usual
 /// 3/4 (p = 0, 1/4, 1/2, 3/4, 1, 3/2: sqrt-based, within an ulp or two of std::pow, at a
-/// fraction of its cost), std::pow otherwise.
+/// fraction of its cost), std::pow otherwise.  (3/4 is tested first: law_overlap_power calls
+/// this with a run-time p for the power law only.)
 inline double overlap_power(double delta, double p)
 {
+  if (p == 0.75) {
+    const double s = std::sqrt(delta);
+    return s * std::sqrt(s);
+  }
   if (p == 0.0) return 1.0;
   if (p == 0.5) return std::sqrt(delta);
   if (p == 1.0) return delta;
   if (p == 1.5) return delta * std::sqrt(delta);
   if (p == 0.25) return std::sqrt(std::sqrt(delta));
-  if (p == 0.75) {
-    const double s = std::sqrt(delta);
-    return s * std::sqrt(s);
-  }
   return std::pow(delta, p);
+}
+
+/// delta^p of law L's damping term with its exponent from LAW_TABLE, a constant here: the
+/// fast path is chosen at compile time.
+template <Law L> inline double fixed_law_power(double delta)
+{
+  constexpr double p = law_exponent(L);
+  static_assert(p >= 0.0, "a law with a fixed exponent");
+  return overlap_power(delta, p);
+}
+
+/// delta^p of the damping term of `law` (p: its exponent, law_exponent(law) for every law but
+/// power): one switch on the law instead of a chain of exponent tests per contact and step.
+inline double law_overlap_power(Law law, double delta, double p)
+{
+  switch (law) {
+    case Law::LH: return fixed_law_power<Law::LH>(delta);
+    case Law::Ts: return fixed_law_power<Law::Ts>(delta);
+    case Law::KK: return fixed_law_power<Law::KK>(delta);
+    case Law::Li: return fixed_law_power<Law::Li>(delta);
+    case Law::Hunt: return fixed_law_power<Law::Hunt>(delta);
+    case Law::Jian: return fixed_law_power<Law::Jian>(delta);
+    default: return overlap_power(delta, p);
+  }
 }
 
 /// Per-contact k, c0, tau from the parsed LawParams, the contact's E* [Pa], m* [kg] and R* [m]

@@ -86,8 +86,8 @@ struct DampingLaw {
   /// nullptr if none; s.cc set).
   VISCONTACT_ALWAYS_INLINE void start(const ContactState &s, double *h) const
   {
-    if (h && s.cc.tau > 0.0)
-      h[0] = relaxation(s.g->t_now - contact_start_time(s.g->t_now, s.dt, s.delta, -s.vn), s.cc.tau);
+    if (h && s.cc->tau > 0.0)
+      h[0] = relaxation(s.t_now - contact_start_time(s.t_now, s.dt, s.delta, -s.vn), s.cc->tau);
   }
 
   /// A contact of a format-2 restart (viscontact before 2026-11-27: its slot held the contact's
@@ -101,18 +101,15 @@ struct DampingLaw {
   /// eta_n = c0 g delta_a^p, F_n = F_ne + eta_n ddelta (clamped).  h: Jian's g, nullptr if none
   /// kept.  Each regular step advances g exactly, g <- g exp(-dt/tau) + 1 - exp(-dt/tau),
   /// whatever dt is at that step (the factors cached per coefficient set and dt:
-  /// relaxation_step); a run's setup and single() (advance false) read g as it is.
+  /// relaxation_step, s.cc's for s.dt); a run's setup and single() (advance false) read g as it is.
   VISCONTACT_ALWAYS_INLINE void calculate(ContactState &s, double *h) const
   {
     double grel = 1.0;
-    if (h && s.cc.tau > 0.0) {
-      if (s.advance && !s.fresh) {
-        if (!s.g->coeffs) relaxation_step(s.cc, s.dt);
-        h[0] = h[0] * s.cc.decay + s.cc.rise;
-      }
+    if (h && s.cc->tau > 0.0) {
+      if (s.advance && !s.fresh) h[0] = h[0] * s.cc->decay + s.cc->rise;
       grel = h[0];
     }
-    s.eta_n = s.cc.c0 * grel * overlap_power(s.delta_a, law.p);
+    s.eta_n = s.cc->c0 * grel * law_overlap_power(law.law, s.delta_a, law.p);
     const double fd = s.eta_n * -s.vn;
     s.fn = s.fne + fd;
     if (law.clamp && s.fn < 0.0) s.fn = 0.0;

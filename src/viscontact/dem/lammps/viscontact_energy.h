@@ -74,8 +74,8 @@ inline void flip(const HistorySlots &slots, double *sign)
 
 /// The works of the last evaluation's forces (stored in the damp slots) over this step, the
 /// first half of the trapezoid, on the bodies [energy] (NLAST values; all 0 for a new contact).
-inline void last_half_works(const HistorySlots &slots, const double *h, const ContactGeometry &g,
-                            double *w)
+VISCONTACT_ALWAYS_INLINE void last_half_works(const HistorySlots &slots, const double *h,
+                                              const ContactGeometry &g, double *w)
 {
   using detail::dot3;
   const double *dp = &h[slots.damp];
@@ -126,11 +126,10 @@ inline double release(const HistorySlots &slots, const double *h, double *diss,
 /// this step's forces and half-works into the damp slots and the totals into the history.
 /// arms: the lever arms d_i, d_j of the tangential force.
 VISCONTACT_ALWAYS_INLINE void count(const HistorySlots &slots, const ContactState &s,
-                                    const double arms[2], double *__restrict h,
-                                    ContactResult &__restrict res)
+                                    const ContactGeometry &g, const double arms[2],
+                                    double *__restrict h, ContactResult &__restrict res)
 {
   using detail::dot3;
-  const ContactGeometry &g = *s.g;
   const double *n = s.n, vn = s.vn, fn = s.fn, fne = s.fne;
   res.elastic[ELASTIC_NORMAL] = s.U;
   res.elastic[ELASTIC_TANGENTIAL] = s.el_t;

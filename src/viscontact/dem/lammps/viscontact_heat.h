@@ -14,7 +14,7 @@ namespace viscontact {
 struct HeatNone : NoValues<HeatNone>, Absent {
   static constexpr const char *NAME = "none";
   int history_size() const { return 0; }
-  VISCONTACT_ALWAYS_INLINE double flow(const ContactState &) const { return 0.0; }
+  VISCONTACT_ALWAYS_INLINE double flow(const ContactState &, const ContactGeometry &) const { return 0.0; }
 };
 
 struct HeatArea {
@@ -38,9 +38,9 @@ struct HeatArea {
     if (err.empty()) k = v[0];
     return err;
   }
-  VISCONTACT_ALWAYS_INLINE double flow(const ContactState &s) const
+  VISCONTACT_ALWAYS_INLINE double flow(const ContactState &s, const ContactGeometry &g) const
   {
-    return k * PI * s.a * s.a * (s.g->T_j - s.g->T_i);
+    return k * PI * s.a * s.a * (g.T_j - g.T_i);
   }
 };
 

@@ -219,11 +219,12 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
                                                      bool advance, ContactResult &__restrict res) const
 {
   ContactState s;
-  s.g = &g;
   for (int k = 0; k < 3; k++) s.n[k] = g.n[k];
   s.delta = g.delta;
   s.reff = g.reff;
   s.dt = g.dt;
+  s.t_now = g.t_now;
+  s.wall = g.wall;
   s.advance = advance;
   s.energy = track_energy;
   s.Estar = Estar;
@@ -239,7 +240,12 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
   // a new contact: fresh history and Jian's relaxation
   double *hd = slots.damping >= 0 ? h + slots.damping : nullptr;
   s.fresh = h[slots.touch] == 0.0;
-  s.cc = g.coeffs ? *g.coeffs : coeffs(g.meff, g.reff);
+  ContactCoeffs own;    // (the caller caches none: this contact's own, with its step factors)
+  if (!g.coeffs) {
+    own = coeffs(g.meff, g.reff);
+    relaxation_step(own, g.dt);
+  }
+  s.cc = g.coeffs ? g.coeffs : &own;
   if (s.fresh) {
     for (int k = 0; k < slots.size; k++) h[k] = 0.0;
     h[slots.touch] = 1.0;
@@ -260,7 +266,7 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
   }
   dispatch(rolling, [&](const auto &m) VISCONTACT_INLINE_LAMBDA { m.calculate(s, h + slots.rolling, res); });
   dispatch(twisting, [&](const auto &m) VISCONTACT_INLINE_LAMBDA { m.calculate(s, h + slots.twisting, res); });
-  dispatch(heat, [&](const auto &m) VISCONTACT_INLINE_LAMBDA { res.heat = m.flow(s); });
+  dispatch(heat, [&](const auto &m) VISCONTACT_INLINE_LAMBDA { res.heat = m.flow(s, g); });
 
   res.a = s.a;
   res.fne = s.fne;
@@ -278,7 +284,7 @@ VISCONTACT_ALWAYS_INLINE void ContactModel::evaluate(const ContactGeometry &g, d
     res.power = 0.0;
     return;
   }
-  energy::count(slots, s, arms, h, res);
+  energy::count(slots, s, g, arms, h, res);
 }
 
 /// The keywords of one pair_coeff line or wall fix after the normal model: take() each, then

@@ -88,13 +88,13 @@ struct RollingSDS : SDSValues<RollingSDS> {
         fr[0] = fr[1] = fr[2] = 0.0;
       }
     }
-    s.el_r = 0.5 * k * dot3(xr, xr);
+    if (s.energy) s.el_r = 0.5 * k * dot3(xr, xr);
     if (s.advance) for (int q = 0; q < 3; q++) h[q] = xr[q];
     double tr[3];
     detail::cross3(s.n, fr, tr);
     for (int q = 0; q < 3; q++) {
       res.torque_i[q] += s.reff * tr[q];
-      if (!s.g->wall) res.torque_j[q] -= s.reff * tr[q];
+      if (!s.wall) res.torque_j[q] -= s.reff * tr[q];
     }
   }
 };

@@ -27,11 +27,11 @@ VISCONTACT_ALWAYS_INLINE void twisting_step(ContactState &s, double *h, ContactR
     xt = (tcrit * sgn - etw * wt) / ktw;
     tq = -tcrit * sgn;
   }
-  s.el_w = 0.5 * ktw * xt * xt;
+  if (s.energy) s.el_w = 0.5 * ktw * xt * xt;
   s.tau_twist = tq;
   for (int k = 0; k < 3; k++) {
     res.torque_i[k] += tq * s.n[k];
-    if (!s.g->wall) res.torque_j[k] -= tq * s.n[k];
+    if (!s.wall) res.torque_j[k] -= tq * s.n[k];
   }
 }
 
