@@ -9,9 +9,11 @@ from __future__ import annotations
 import argparse
 import functools
 import math
+import re
 import signal
 import sys
 from collections.abc import Callable
+from pathlib import Path
 
 from ..physics.domain import NP_MAX
 from ..physics.domain import range_text as _R
@@ -138,8 +140,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     c.add_argument("--wall", dest="walls", nargs="*", action="append", default=None,
                    metavar="WORD",
                    help="a wall fix (repeatable): [xplane|yplane|zplane LO HI | zcylinder R | "
-                   "region ID] [rigid | same | E NU]; LO/HI a coordinate in m or NULL; region: any "
-                   "LAMMPS region (moving or rotating), defined in the input; default geometry "
+                   "region ID | mesh FILE [scale S] [orient AX AY AZ DEG] [offset X Y Z] [move "
+                   "v_X v_Y v_Z] [rotate v_TH PX PY PZ RX RY RZ] [crease DEG] [max_contacts N] "
+                   "[vtk N VTKFILE]] [rigid | same | E NU]; LO/HI a coordinate in m or NULL; "
+                   "region: any LAMMPS region (moving or rotating), defined in the input; mesh: an "
+                   "STL file (checked here), its keywords written as given (the input's units); "
+                   "default geometry "
                    "zplane 0 NULL (a floor at z = 0), default material: --wall-E/--wall-nu, else "
                    "same (the particles' material; one type only)")
     c.add_argument("--wall-E", dest="wall_E", type=float, metavar="PA",
@@ -207,6 +213,73 @@ def _plugin(args: argparse.Namespace) -> int:
 _WALL_STYLES = {"xplane": 2, "yplane": 2, "zplane": 2, "zcylinder": 1, "region": 1}
 
 
+#: the mesh keywords ``--wall mesh FILE`` passes on (docs/fix_viscontact_mesh.md): the kind
+#: of each value (number, number > 0, whole number > 0, v_NAME or NULL, v_NAME, file name)
+_MESH_KEYWORDS = {"scale": "p", "orient": "ffff", "offset": "fff", "move": "VVV",
+                  "rotate": "vffffff", "crease": "f", "max_contacts": "i", "vtk": "iw"}
+
+
+def _mesh_value(word: str, kind: str, what: str) -> str:
+    """One value of a mesh keyword, checked as the fix will read it, as written."""
+    if kind == "f":
+        _number(word, what)
+    elif kind == "p" and not _number(word, what) > 0:
+        raise ValueError(f"{what} must be a number > 0, got {word!r}")
+    elif kind == "i" and not (word.isascii() and word.isdigit() and 0 < int(word) < 10**9):
+        raise ValueError(f"{what} must be a whole number > 0, got {word!r}")
+    elif kind in "vV" and not (re.fullmatch(r"v_[A-Za-z0-9_]+", word) or (kind == "V" and word == "NULL")):
+        raise ValueError(f"{what} must be an equal-style variable v_NAME"
+                         f"{' or NULL' if kind == 'V' else ''}, got {word!r}")
+    elif kind == "w" and not re.fullmatch(r"[^\s'\"]+", word):
+        raise ValueError(f"{what} must be a file name without spaces or quotes, got {word!r}")
+    return word
+
+
+def _check_stl(name: str) -> None:
+    """The mesh file exists and is STL (binary: 84 + 50 n bytes; ASCII: begins with 'solid'),
+    so that a wrong name stops here rather than when LAMMPS reads the input."""
+    path = Path(name)
+    if not path.is_file():
+        raise ValueError(f"--wall mesh {name}: no such file (the STL file, as the directory the "
+                         "input runs in sees it; python3 -m viscontact.dem.stl writes example meshes)")
+    try:
+        with path.open("rb") as fh:
+            head = fh.read(84)
+        size = path.stat().st_size
+    except OSError as exc:
+        raise ValueError(f"--wall mesh {name}: cannot read it: {exc.strerror or exc}") from None
+    binary = len(head) == 84 and size == 84 + 50 * int.from_bytes(head[80:84], "little")
+    if not binary and not head.lstrip().lower().startswith(b"solid"):
+        raise ValueError(f"--wall mesh {name}: not an STL file (neither binary STL, 84 + 50 n "
+                         "bytes, nor ASCII STL beginning with 'solid')")
+
+
+def _parse_mesh(words: list[str]) -> tuple[tuple[str, ...], list[str]]:
+    """``FILE [KEYWORD VALUES ...] [material]`` -> ((FILE,) or (FILE, "keywords"), material words)."""
+    if not words:
+        raise ValueError("--wall mesh needs FILE (an STL file)")
+    name, rest, out = words[0], words[1:], []
+    if not re.fullmatch(r"[^\s'\"]+", name):
+        raise ValueError(f"--wall mesh FILE must be a file name without spaces or quotes, got {name!r}")
+    _check_stl(name)
+    while rest and rest[0] in _MESH_KEYWORDS:
+        key, kinds = rest[0], _MESH_KEYWORDS[rest[0]]
+        if rest.count(key) > 1:
+            raise ValueError(f"--wall mesh: {key} given twice")
+        values = rest[1:1 + len(kinds)]
+        if len(values) < len(kinds):
+            raise ValueError(f"--wall mesh {key} needs {len(kinds)} value(s), got {len(values)}")
+        out += [key, *(_mesh_value(w, k, f"--wall mesh {key}") for w, k in zip(values, kinds))]
+        rest = rest[1 + len(kinds):]
+    if rest and rest[0] not in ("rigid", "same"):
+        try:
+            float(rest[0])
+        except ValueError:
+            raise ValueError(f"--wall mesh: unknown keyword {rest[0]!r}; allowed: "
+                             f"{', '.join(_MESH_KEYWORDS)}, then rigid | same | E NU") from None
+    return ((name, " ".join(out)) if out else (name,)), rest
+
+
 def _number(text: str, what: str) -> float:
     try:
         value = float(text)
@@ -245,9 +318,12 @@ def _parse_wall(words: list[str], default_material: object, motion: dict):
     """``[STYLE ARGS] [rigid|same|E NU]`` -> a Wall (``motion``: wiggle, shear, temperature)."""
     from ..dem.materials import Wall
 
-    geometry: tuple[str, tuple[float | None, ...]] = ("zplane", (0.0, None))
+    geometry: tuple[str, tuple] = ("zplane", (0.0, None))
     rest = list(words)
-    if rest and rest[0] in _WALL_STYLES:
+    if rest and rest[0] == "mesh":
+        mesh_args, rest = _parse_mesh(rest[1:])
+        geometry = ("mesh", mesh_args)
+    elif rest and rest[0] in _WALL_STYLES:
         style, k = rest[0], _WALL_STYLES[rest[0]]
         if len(rest) < 1 + k:
             raise ValueError(f"--wall {style} needs {'LO HI' if k == 2 else 'R'}")
@@ -261,12 +337,12 @@ def _parse_wall(words: list[str], default_material: object, motion: dict):
         material = default_material
     elif len(rest) == 1 and rest[0] in ("rigid", "same"):
         material = rest[0]
-    elif len(rest) == 2:
+    elif len(rest) == 2 and not {"rigid", "same"} & set(rest):
         material = (_number(rest[0], "--wall E"), _number(rest[1], "--wall NU"))
     else:
         raise ValueError(f"--wall {' '.join(words)}: expected [xplane|yplane|zplane LO HI | "
-                         "zcylinder R | region ID] [rigid | same | E NU]")
-    if geometry[0] == "region":  # a region moves with its own keywords
+                         "zcylinder R | region ID | mesh FILE [KEYWORD ...]] [rigid | same | E NU]")
+    if geometry[0] in ("region", "mesh"):  # a region or mesh moves with its own keywords
         motion = {k: v for k, v in motion.items() if k == "temperature"}
     return Wall(geometry[0], geometry[1], material, **motion)
 
@@ -336,9 +412,9 @@ def _coeff(args: argparse.Namespace) -> int:
     if motion and not args.walls:
         raise ValueError("--wiggle, --shear and --wall-temperature need a --wall")
     walls = [_parse_wall(w, default_wall, motion) for w in (args.walls or [])]
-    if (args.wiggle or args.shear) and all(w.style == "region" for w in walls):
+    if (args.wiggle or args.shear) and all(w.style in ("region", "mesh") for w in walls):
         raise ValueError("--wiggle and --shear move plane and zcylinder walls; move a region wall "
-                         "with the region's own move/rotate keywords")
+                         "with the region's own move/rotate keywords, a mesh wall with its own")
     sub = _sub_models(args)
     cohesive = bool(args.normal) and args.normal[0] in ("dmt", "jkr")
     end = args.end or ("overlap" if cohesive else "force")

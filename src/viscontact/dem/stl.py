@@ -1,10 +1,11 @@
 """STL files for the mesh walls of ``fix viscontact/wall ... mesh FILE`` (docs/fix_viscontact_mesh.md):
 a writer (binary or ASCII) and the shapes of the examples: a flat-bottomed silo with a
-central orifice, a conical hopper and a mixer's blade.
+central orifice, a conical hopper, a mixer's blade and a drum's mantle (an open tube).
 
     python3 -m viscontact.dem.stl silo OUT.stl [--radius R] [--height H] [--orifice D] [--faces N]
     python3 -m viscontact.dem.stl hopper OUT.stl [--outlet R0] [--radius R] [--height H] [--faces N]
     python3 -m viscontact.dem.stl blade OUT.stl [--half L] [--zlo Z0] [--zhi Z1]
+    python3 -m viscontact.dem.stl drum OUT.stl [--radius R] [--zlo Z0] [--zhi Z1] [--faces N]
 
 Lengths in metres; an existing OUT is kept unless ``--force``.  Shared corners are written with
 the same numbers, so the fix welds them into closed seams.
@@ -84,19 +85,30 @@ def blade(half: float = 0.04, zlo: float = 0.005, zhi: float = 0.03) -> list[Tri
     return [(a, b, c), (a, c, d)]
 
 
+def drum(radius: float = 0.04, zlo: float = -0.01, zhi: float = 0.022,
+         faces: int = 128) -> list[Triangle]:
+    """A drum's mantle: an open polygonal tube about the z axis from ``zlo`` to ``zhi``, its
+    ``faces`` corners on the circle of ``radius`` (the faces lie inside it by at most
+    radius (1 - cos(pi / faces)), 12 um for the defaults).  Turn it with the fix's ``rotate``."""
+    if not (radius > 0 and zlo < zhi and faces >= 3):
+        raise ValueError(f"a drum needs radius > 0, zlo < zhi and faces >= 3, got radius "
+                         f"{radius}, zlo {zlo}, zhi {zhi}, faces {faces}")
+    return _band(_ring(radius, zlo, faces), _ring(radius, zhi, faces))
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python3 -m viscontact.dem.stl",
                                  description="write the STL file of an example mesh wall")
-    ap.add_argument("shape", choices=("silo", "hopper", "blade"))
+    ap.add_argument("shape", choices=("silo", "hopper", "blade", "drum"))
     ap.add_argument("out", type=Path)
-    ap.add_argument("--radius", type=float, help="silo/hopper radius [m] (top of the hopper)")
+    ap.add_argument("--radius", type=float, help="silo/hopper/drum radius [m] (top of the hopper)")
     ap.add_argument("--height", type=float, help="silo/hopper height [m]")
     ap.add_argument("--orifice", type=float, help="silo orifice diameter [m]")
     ap.add_argument("--outlet", type=float, help="hopper outlet radius [m]")
     ap.add_argument("--faces", type=int, help="segments around the axis")
     ap.add_argument("--half", type=float, help="blade half-width [m]")
-    ap.add_argument("--zlo", type=float, help="blade bottom [m]")
-    ap.add_argument("--zhi", type=float, help="blade top [m]")
+    ap.add_argument("--zlo", type=float, help="blade/drum bottom [m]")
+    ap.add_argument("--zhi", type=float, help="blade/drum top [m]")
     ap.add_argument("--ascii", action="store_true", help="ASCII instead of binary STL")
     ap.add_argument("--force", action="store_true", help="overwrite OUT")
     args = ap.parse_args(argv)
@@ -105,10 +117,11 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     keys = {"silo": ("radius", "height", "orifice", "faces"),
             "hopper": ("outlet", "radius", "height", "faces"),
-            "blade": ("half", "zlo", "zhi")}[args.shape]
+            "blade": ("half", "zlo", "zhi"),
+            "drum": ("radius", "zlo", "zhi", "faces")}[args.shape]
     kwargs = {k: getattr(args, k) for k in keys if getattr(args, k) is not None}
     try:
-        tris = {"silo": silo, "hopper": hopper, "blade": blade}[args.shape](**kwargs)
+        tris = {"silo": silo, "hopper": hopper, "blade": blade, "drum": drum}[args.shape](**kwargs)
     except ValueError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

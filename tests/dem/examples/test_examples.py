@@ -324,6 +324,8 @@ CLEAN = {
     "mesh.silo": {"fill": 12400, "steps": 0},
     "mesh.hopper": {"fill": 9100, "steps": 0},
     "mesh.mixer": {"fill": 13600, "steps": 0},
+    # create_atoms random places all 320 at once; a short settle and the first turning steps
+    "mesh.drum": {"settle": 2000, "steps": 500},
 }
 
 

@@ -358,6 +358,85 @@ def test_cli_sub_model_errors(args, match):
     assert re.search(match, proc.stderr), proc.stderr
 
 
+def _floor_mm(path: Path) -> Path:
+    """A flat square floor at z = 5, |x|, |y| <= 40 (millimetres: the walls read it with
+    ``scale 0.001``), two triangles."""
+    from viscontact.dem.stl import write_stl
+
+    a, b, c, d = (-40.0, -40.0, 5.0), (40.0, -40.0, 5.0), (40.0, 40.0, 5.0), (-40.0, 40.0, 5.0)
+    return write_stl(path, [(a, b, c), (a, c, d)])
+
+
+@pytest.mark.parametrize("words,match", [
+    (["mesh"], "needs FILE"),
+    (["mesh", "missing.stl"], "missing.stl: no such file"),
+    (["mesh", "notstl.txt"], "not an STL file"),
+    (["mesh", "floor.stl", "scal", "0.001"], "unknown keyword 'scal'; allowed: scale, orient"),
+    (["mesh", "floor.stl", "scale", "0"], "scale must be a number > 0"),
+    (["mesh", "floor.stl", "scale", "x"], "scale must be a number"),
+    (["mesh", "floor.stl", "offset", "0", "0"], "offset needs 3 value"),
+    (["mesh", "floor.stl", "rotate", "1", "0", "0", "0", "0", "0", "1"], "v_NAME"),
+    (["mesh", "floor.stl", "max_contacts", "2.5"], "whole number"),
+    (["mesh", "floor.stl", "scale", "1", "scale", "2"], "scale given twice"),
+    (["mesh", "floor.stl", "rigid", "extra"], r"expected \[xplane.*mesh FILE"),
+])
+def test_cli_wall_mesh_errors(tmp_path, words, match):
+    """``--wall mesh``: a missing or non-STL file and a bad keyword or value stop the command
+    with one line, before any LAMMPS input exists."""
+    _floor_mm(tmp_path / "floor.stl")
+    (tmp_path / "notstl.txt").write_text("not a mesh\n")
+    proc = run_cli("dem", "coeff", "--law", "KK", "--E", "1e7", "--nu", "0.3", "--c0", "1",
+                   "--wall", *words, cwd=tmp_path)
+    assert proc.returncode == 2 and proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
+    assert re.search(match, proc.stderr), proc.stderr
+
+
+@needs_lammps
+def test_cli_wall_mesh_runs(tmp_path):
+    """The lines of ``dem coeff --wall mesh FILE scale 0.001 rigid`` run in LAMMPS, and a flat
+    mesh floor (at z = 5 in mm: scaled to 0.005 m) moves spheres landing, sliding and spinning across its shared
+    edge exactly as ``--wall zplane 0.005 NULL rigid`` does (the mesh wall's flat-patch rule:
+    docs/fix_viscontact_mesh.md)."""
+    _floor_mm(tmp_path / "floor.stl")
+    law = ["--law", "KK", "--E", "1e7", "--nu", "0.3", "--e", "0.8", "--vref", "1",
+           "--friction", "0.5", "--json"]
+    spheres = "".join(f"create_atoms 1 single {x} {y} 0.0075\nset atom {k + 1} vx {vx} vy {vy}\n"
+                      for k, (x, y, vx, vy) in enumerate([(-0.01, -0.003, 0.4, 0.45),
+                                                           (0.004, -0.006, -0.2, 0.6),
+                                                           (0.002, 0.005, 0.3, -0.1)]))
+    final = {}
+    for name, wall in (("mesh", ["mesh", "floor.stl", "scale", "0.001", "rigid"]),
+                       ("zplane", ["zplane", "0.005", "NULL", "rigid"])):
+        proc = run_cli("dem", "coeff", *law, "--wall", *wall, cwd=tmp_path)
+        assert proc.returncode == 0, proc.stderr
+        lines = json.loads(proc.stdout)
+        if name == "mesh":
+            assert lines["wall_lines"][0].startswith(
+                "fix vcwall all viscontact/wall mesh floor.stl scale 0.001 wall_material rigid ")
+        src = tmp_path / f"in.{name}"
+        src.write_text("units si\natom_style sphere\natom_modify map array\nboundary f f f\n"
+                       "comm_modify vel yes\nnewton off\n"
+                       "region box block -0.05 0.05 -0.05 0.05 -0.01 0.05\ncreate_box 1 box\n"
+                       + lines["text"] + "\n" + spheres
+                       + "set type 1 diameter 0.004 density 2500\nset type 1 omega 0 40 0\n"
+                       "fix g all gravity 9.81 vector 0 0 -1\nfix nve all nve/sphere\n"
+                       "timestep 1e-5\nthermo 500\n"
+                       f"dump d all custom 3000 {name}.dump id x y z vx vy vz omegax omegay omegaz\n"
+                       "dump_modify d sort id format float %.17g\nrun 3000\n")
+        dem.run_input(src, progress=False, quiet=True)
+        final[name] = dem.read_dump(tmp_path / f"{name}.dump")[-1]
+    a, b = final["mesh"], final["zplane"]
+    # on the floor (a radius above it, less the overlap), below the release height (lost energy)
+    assert np.all(a["z"] > 0.0069) and np.all(a["z"] < 0.0075)
+    moved = np.abs(b["x"] - (-0.01, 0.004, 0.002)).max()
+    assert moved > 0.005 and np.all(np.abs(b["x"]) < 0.04)      # slid within the floor
+    for col in ("x", "y", "z"):
+        assert np.abs(a[col] - b[col]).max() <= 1e-12 * moved, col
+    for col in ("vx", "vy", "vz", "omegax", "omegay", "omegaz"):
+        scale = np.abs(b[col]).max() + 1e-30
+        assert np.abs(a[col] - b[col]).max() <= 1e-10 * max(scale, 1e-3), col
+
+
 def test_cli_sub_models():
     """The flags give the keywords coeff_set writes; cohesion defaults to end overlap."""
     proc = run_cli("dem", "coeff", "--law", "LH", "--E", "1e7", "--nu", "0.3", "--c0", "0.5",
