@@ -13,6 +13,7 @@ from viscontact.physics.laws import LawParams, resolve
 from viscontact.solvers import SOLVERS
 from viscontact.solvers.batch import BATCH_RTOL, solve_batch
 from viscontact.solvers.reference import solve_reference
+from conftest import taylor_params
 from references import TC_HERTZ, hunt_e, taylor_reference, tsuji_force_e, tsuji_overlap_alpha
 from laws_util import law_kwargs
 
@@ -65,7 +66,7 @@ TAYLOR_CASES = [
 
 
 @pytest.mark.parametrize("end", ENDS)
-@pytest.mark.parametrize("model, beta, alpha", TAYLOR_CASES)
+@pytest.mark.parametrize("model, beta, alpha", taylor_params(TAYLOR_CASES))
 def test_against_high_precision_taylor_solution(model, beta, alpha, end):
     lp = _lp(model, beta if model == "Jian" else None)
     ref = taylor_reference(lp.p, alpha, beta, end, t_stop=20.0)
