@@ -5,6 +5,7 @@ Nothing here calls viscontact: the references must be able to disagree with it.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import mpmath as mp
@@ -51,22 +52,11 @@ def taylor_reference(p: float, alpha: float, beta: float, end: str, t_stop: floa
 
     Solves x'' = -(x^(3/2) + alpha g(t) x^p x') in the regular variables x = s^2
     (s^4 when 2p is not an integer), dt = m s^(m-1) dsigma, and finds the end of contact with
-    mpmath's root finder on the series solution.
+    mpmath's root finder on the series solution.  Both ends of one collision read the same
+    solution (:func:`_taylor_solution`): the second end continues where the first stopped.
     """
-    m = 2 if float(2 * p).is_integer() else 4
     with mp.workdps(dps):
-        a, b = mp.mpf(alpha), mp.mpf(beta)
-
-        def force(s, v, t):
-            g = 1 if b == 0 else -mp.expm1(-t / b)
-            return s ** (3 * m // 2) + a * g * s ** int(round(m * p)) * v
-
-        def rhs(_sig, y):
-            s, v, t = y
-            j = m * s ** (m - 1)
-            return [v, -j * force(s, v, t), j]
-
-        sol = mp.odefun(rhs, 0, [mp.mpf(0), mp.mpf(1), mp.mpf(0)])
+        sol, force = _taylor_solution(p, alpha, beta, dps)
         if end == "overlap":
             fn = lambda z: sol(z)[0]  # noqa: E731
         else:
@@ -88,3 +78,28 @@ def taylor_reference(p: float, alpha: float, beta: float, end: str, t_stop: floa
             root = hi
         s, v, t = sol(root)
         return float(-v), float(t)
+
+
+# The last few solutions, kept for the other end of the same collision (its tests run one
+# after the other).  Exactly the numbers of a fresh solve: mpmath's odefun computes its series
+# segments one after the other from the start, each from the last one's end, whichever point
+# is asked first, and evaluates a point on the segment that holds it.  A few, not all: a
+# solution to t = 20 holds megabytes of series at the series' working precision.
+@functools.lru_cache(maxsize=4)
+def _taylor_solution(p: float, alpha: float, beta: float, dps: int):
+    """(sol, force): mpmath's series solution sigma -> (s, v, t) of :func:`taylor_reference`'s
+    system and the contact force F(s, v, t); call both inside ``mp.workdps(dps)``."""
+    m = 2 if float(2 * p).is_integer() else 4
+    with mp.workdps(dps):
+        a, b = mp.mpf(alpha), mp.mpf(beta)
+
+        def force(s, v, t):
+            g = 1 if b == 0 else -mp.expm1(-t / b)
+            return s ** (3 * m // 2) + a * g * s ** int(round(m * p)) * v
+
+        def rhs(_sig, y):
+            s, v, t = y
+            j = m * s ** (m - 1)
+            return [v, -j * force(s, v, t), j]
+
+        return mp.odefun(rhs, 0, [mp.mpf(0), mp.mpf(1), mp.mpf(0)]), force

@@ -154,6 +154,15 @@ def _shared_fixture_group(item) -> str | None:
                     + [f"{n}{indices[n]}" for n in sorted(shared) if n in indices])
 
 
+def taylor_params(cases) -> list:
+    """The (model, beta, alpha) cases of a test against ``references.taylor_reference``, each in
+    an xdist group of its own: the two ends of a case then run in one worker, one after the
+    other, and the second reads the series solution the first computed (the reference keeps the
+    last few), the same numbers as a solve of its own."""
+    return [pytest.param(*case, marks=pytest.mark.xdist_group("taylor-" + "-".join(map(str, case))))
+            for case in cases]
+
+
 def _study_args(base: Path) -> list[str]:
     return [sys.executable, "-m", "viscontact", "dem-study", "--quick", "--out", str(base / "rep")]
 

@@ -7,6 +7,7 @@ import pytest
 
 import viscontact as vc
 from viscontact.physics.kernels import force
+from conftest import taylor_params
 from laws_util import law_kwargs
 from references import (TC_HERTZ, XMAX_HERTZ, hunt_e, taylor_reference, tsuji_force_e,
                         tsuji_overlap_alpha)
@@ -69,7 +70,7 @@ TAYLOR_CASES = [
 
 
 @pytest.mark.parametrize("end", ENDS)
-@pytest.mark.parametrize("model, beta, alpha", TAYLOR_CASES)
+@pytest.mark.parametrize("model, beta, alpha", taylor_params(TAYLOR_CASES))
 def test_against_high_precision_taylor_solution(model, beta, alpha, end):
     p = 0.75 if model == "power" else vc.LAWS[model].p
     ref = taylor_reference(p, alpha, beta, end, t_stop=20.0)

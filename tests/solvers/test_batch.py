@@ -13,6 +13,7 @@ from viscontact.physics.laws import LawParams, resolve
 from viscontact.solvers import SOLVERS
 from viscontact.solvers.batch import BATCH_RTOL, solve_batch
 from viscontact.solvers.reference import solve_reference
+from conftest import taylor_params
 from references import TC_HERTZ, hunt_e, taylor_reference, tsuji_force_e, tsuji_overlap_alpha
 from laws_util import law_kwargs
 
@@ -65,7 +66,7 @@ TAYLOR_CASES = [
 
 
 @pytest.mark.parametrize("end", ENDS)
-@pytest.mark.parametrize("model, beta, alpha", TAYLOR_CASES)
+@pytest.mark.parametrize("model, beta, alpha", taylor_params(TAYLOR_CASES))
 def test_against_high_precision_taylor_solution(model, beta, alpha, end):
     lp = _lp(model, beta if model == "Jian" else None)
     ref = taylor_reference(lp.p, alpha, beta, end, t_stop=20.0)
@@ -223,3 +224,16 @@ def test_generated_step_matches_its_generator():
 
     assert (_codegen.TARGET.read_text() == _codegen.source()), (
         "run python3 -m viscontact.solvers._codegen")
+
+
+def test_the_solver_is_compiled_before_its_first_call_for_its_types(monkeypatch):
+    """solve_batch compiles (or loads) each shape under a lock shared by processes
+    (``compile_once``) for the types of the arguments it then calls it with: the call adds
+    no compilation (a type that differed would compile a second signature)."""
+    from viscontact.solvers import batch
+
+    monkeypatch.setattr(batch, "_SOLVERS", {})  # a fresh solver object: nothing compiled yet
+    for end in ENDS:
+        solve_batch(_lp("Jian", 0.5), np.linspace(0.0, 3.0, 5), end)
+    (solver,) = batch._SOLVERS.values()
+    assert len(solver.signatures) == 1

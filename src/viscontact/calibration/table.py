@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.polynomial import chebyshev as npcheb
 
+from .._support.locks import compile_once
 from ..physics.laws import LAWS
 from ._interp import (
     _E_CELLS, _LOOKUP_CELLS, _NB, _NODES_2D, _chunks, _eval1_many, _eval2_many, _from_unit,
@@ -103,6 +104,14 @@ def _degree(weights: np.ndarray) -> int:
     return max(1, int(np.count_nonzero(tail > _TRUNC_TOL)))
 
 
+def _run(driver, *args) -> None:
+    """Call a compiled driver of :mod:`._interp`, compiled first once for the processes that
+    start together (:func:`viscontact._support.locks.compile_once`: up to ~10 CPU-s each for
+    the parallel 2D ones)."""
+    compile_once(driver, args)
+    driver(*args)
+
+
 @dataclass
 class Table:
     """Piecewise Chebyshev interpolant of e(alpha) (``beta_axis`` None) or e(alpha, beta).
@@ -163,10 +172,10 @@ class Table:
         a = np.ascontiguousarray(alpha, dtype=float).ravel()
         out = np.empty(a.shape)
         if self.beta_axis is None:
-            _eval1_many(*self.alpha_axis, self.coef, self._deg, a, out)
+            _run(_eval1_many, *self.alpha_axis, self.coef, self._deg, a, out)
         else:
             b = np.ascontiguousarray(beta, dtype=float).ravel()
-            _eval2_many(*self._kernel_e2(), a, b, out, _chunks())
+            _run(_eval2_many, *self._kernel_e2(), a, b, out, _chunks())
         return out.reshape(np.shape(alpha))
 
     def alpha(self, e: np.ndarray, beta: np.ndarray | None = None) -> np.ndarray:
@@ -174,11 +183,11 @@ class Table:
         t = np.ascontiguousarray(e, dtype=float).ravel()
         out = np.empty(t.shape)
         if self.beta_axis is None:
-            _invert1_many(*self.alpha_axis, self.coef, self._deg, self._inv, self._curvature, t,
-                          out)
+            _run(_invert1_many, *self.alpha_axis, self.coef, self._deg, self._inv,
+                 self._curvature, t, out)
         else:
             b = np.ascontiguousarray(beta, dtype=float).ravel()
-            _invert2_many(*self._kernel_alpha2(), t, b, out, _chunks())
+            _run(_invert2_many, *self._kernel_alpha2(), t, b, out, _chunks())
         return out.reshape(np.shape(e))
 
     def to_arrays(self) -> dict[str, np.ndarray]:

@@ -35,12 +35,13 @@ import os
 import tempfile
 import threading
 import warnings
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable
+from contextlib import AbstractContextManager
 from pathlib import Path
 
 import numpy as np
 
+from .._support.locks import file_lock
 from ..physics.laws import lookup
 from .build import _build, exact_e
 from .table import (
@@ -129,25 +130,11 @@ def _save(table: Table) -> None:
                       RuntimeWarning, stacklevel=3)
 
 
-@contextmanager
-def _build_lock(law: str, end: str) -> Iterator[None]:
+def _build_lock(law: str, end: str) -> AbstractContextManager[None]:
     """Hold an exclusive lock on this table's cache entry across processes (POSIX flock), so
     that processes sharing a cache directory (parallel test workers, a tool and its
     subprocesses) build a missing table once; without a writable cache (or flock) no lock."""
-    try:
-        import fcntl
-
-        cache_dir().mkdir(parents=True, exist_ok=True)
-        fh = open(cache_dir() / f".table-{law}-{end}.lock", "w")
-    except (ImportError, OSError):
-        yield
-        return
-    with fh:
-        fcntl.flock(fh, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(fh, fcntl.LOCK_UN)
+    return file_lock(cache_dir() / f".table-{law}-{end}.lock")
 
 
 def get_table(law: str, end: str) -> Table | None:

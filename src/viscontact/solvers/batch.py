@@ -53,6 +53,7 @@ import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._support.locks import compile_once
 from ..physics.kernels import INT_POW_LIMIT, end_force_event, rhs_sigma
 from ..physics.laws import LawParams
 from . import _dop853_lanes as L
@@ -431,11 +432,18 @@ def solve_batch(
         # a few chunks per thread: balanced, and few half-empty tails of slots
         threads = numba.get_num_threads()
         chunk = max(_CHUNK, -(-n // (4 * threads)))
-        solve_range = _solver(m, n_damp, 4 if dissipated else 3, bool(np.any(b > 0.0)))
+        key = (m, n_damp, 4 if dissipated else 3, bool(np.any(b > 0.0)))
+        solve_range = _solver(*key)
+
+        def args(lo: int) -> tuple:
+            return (a, b, lo, min(n, lo + chunk), p, q, force_end, rtol, rtol * 1e-2, T_MAX, e,
+                    tc, res, w, sep, steps)
+
+        # compiled before the threads start, once for the processes that start together
+        compile_once(solve_range, args(0), tag=str(key))
 
         def run(lo: int) -> None:
-            solve_range(a, b, lo, min(n, lo + chunk), p, q, force_end, rtol, rtol * 1e-2,
-                        T_MAX, e, tc, res, w, sep, steps)
+            solve_range(*args(lo))
 
         starts = range(0, n, chunk)
         if threads == 1 or len(starts) == 1:
