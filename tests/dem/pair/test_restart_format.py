@@ -22,9 +22,9 @@ step's work; tests/dem/pair/test_runstart_energy.py), where f0c8c3f kept the las
 step's; so the dissipated columns are compared from the end of the first step on (measured:
 over the whole run they differ by up to 2.5e-4 of a column's largest value, 4e-5 for the
 total; from the first step's end they agree to 1e-12, the elastic columns throughout).
-Both continue on the same history layout, so they agree to the order of force sums (the same atom order: here
-exactly, asserted 1e-12 of each column's largest value).  A restart file that names a format
-this plugin does not know stops with one ERROR line naming it.
+Both continue on the same history layout, so they agree to the order of force sums (the same
+atom order: here exactly, asserted 1e-12 of each column's largest value).  A restart file that
+names a format this plugin does not know stops with one ERROR line naming it.
 """
 
 from __future__ import annotations
