@@ -4,7 +4,7 @@ dissipated stays constant as the spheres settle, the residual shrinking at least
 dt halves (a mechanism the wall failed to count would leave a residual that does not shrink).
 
 Measured (this file's cases, 0.3 s of settling): residual / dissipated = 1.2e-3 (bowl) and
-3.0e-4 (jkr floor) at dt = t_c/50, 2.2e-4 and 7.0e-5 at t_c/100, 5.1e-5 and 1.3e-5 at t_c/200:
+3.0e-4 (jkr floor) at dt = t_c/50, 2.1e-4 and 7.0e-5 at t_c/100, 5.1e-5 and 1.3e-5 at t_c/200:
 second order (each force's work counted as velocity Verlet does it).  The residual is taken at
 the end, with the spheres at rest or nearly so (in the middle of a contact velocity Verlet's
 energy oscillates by O(dt^2) of the contact's energy).

@@ -122,9 +122,12 @@ inline double release(const HistorySlots &slots, const double *h, double *diss,
   return e[0] + e[1] + e[2] + e[3] + p[0] + p[1] + p[2] + p[3] + p[4] + p[5];
 }
 
-/// This step's dissipated energy by mechanism and the elastic energies into res; with advance,
-/// this step's forces and half-works into the damp slots and the totals into the history.
-/// arms: the lever arms d_i, d_j of the tangential force.
+/// This step's dissipated energy by mechanism and the elastic energies into res; this
+/// evaluation's forces, half-works and elastic energies into the damp and elastic slots; with
+/// advance, the step's dissipated total into the history.  A run's setup (advance false) writes
+/// the slots too: the integrator's first step starts from the setup's forces, so they are the
+/// first half of that step's trapezoid (stale slots left an O(dt) gap there for a contact begun
+/// at setup, O(dt^2) for one going on).  arms: the lever arms d_i, d_j of the tangential force.
 VISCONTACT_ALWAYS_INLINE void count(const HistorySlots &slots, const ContactState &s,
                                     const ContactGeometry &g, const double arms[2],
                                     double *__restrict h, ContactResult &__restrict res)
@@ -156,32 +159,28 @@ VISCONTACT_ALWAYS_INLINE void count(const HistorySlots &slots, const ContactStat
   // snap-in (jkr, dmt): the elastic energy jumps from 0 (apart) to U, and the attraction did
   // (F_ne/2) v_n dt over the step before (the trapezoid with no force at its start)
   res.dissipated[DISS_ADHESION] = (s.fresh && s.cohesive) ? -s.U - 0.5 * fne * vn * s.dt : 0.0;
-  if (s.advance) {
-    dp[0] = fn - fne;
-    for (int k = 0; k < 3; k++) {
-      dp[1 + k] = s.fdamp_t[k];
-      dp[4 + k] = s.fr[k];
-      dp[14 + k] = n[k];
-      dp[17 + k] = s.ft[k];
-    }
-    dp[7] = s.tau_twist;
-    dp[20] = arms[0] + arms[1];
-    dp[21] = arms[0] - arms[1];
-    dp[22] = fne;
-    dp[8] = -half * (fn - fne) * vn;
-    dp[9] = -half * p_damp;
-    dp[10] = -half * p_r;
-    dp[11] = -half * p_w;
-    dp[12] = -half * fne * vn;
-    dp[13] = -half * (p_t - p_damp);
+  dp[0] = fn - fne;
+  for (int k = 0; k < 3; k++) {
+    dp[1 + k] = s.fdamp_t[k];
+    dp[4 + k] = s.fr[k];
+    dp[14 + k] = n[k];
+    dp[17 + k] = s.ft[k];
   }
+  dp[7] = s.tau_twist;
+  dp[20] = arms[0] + arms[1];
+  dp[21] = arms[0] - arms[1];
+  dp[22] = fne;
+  dp[8] = -half * (fn - fne) * vn;
+  dp[9] = -half * p_damp;
+  dp[10] = -half * p_r;
+  dp[11] = -half * p_w;
+  dp[12] = -half * fne * vn;
+  dp[13] = -half * (p_t - p_damp);
   double sum = 0.0;
   for (int k = 0; k < NDISS; k++) sum += res.dissipated[k];
   res.power = s.dt > 0.0 ? sum / s.dt : 0.0;
-  if (s.advance) {
-    h[slots.energy] += sum;
-    for (int k = 0; k < NELASTIC; k++) h[slots.elastic + k] = res.elastic[k];
-  }
+  if (s.advance) h[slots.energy] += sum;
+  for (int k = 0; k < NELASTIC; k++) h[slots.elastic + k] = res.elastic[k];
 }
 
 }    // namespace energy

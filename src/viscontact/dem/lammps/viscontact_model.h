@@ -207,8 +207,10 @@ class ContactModel {
 
   /// THE contact step.  history: history_size() values of this contact (touch slot 0: a new
   /// contact, which is initialised here).  advance = false in a run's setup force call and in
-  /// single(): displacements are not incremented and no energy is counted (the Coulomb cap and
-  /// the rescale still rewrite the tangential history, as native).
+  /// single() (on a copy): displacements are not incremented and no energy is dissipated (the
+  /// Coulomb cap and the rescale still rewrite the tangential history, as native); the energy
+  /// slots still take this evaluation's forces and elastic energies, where the first step's
+  /// work starts (energy::count).
   void evaluate(const ContactGeometry &g, double *h, bool advance, ContactResult &res) const;
 
  private:
