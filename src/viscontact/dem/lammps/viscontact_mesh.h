@@ -167,6 +167,7 @@ class TriangleMesh {
   {
     out.clear();
     cand.clear();
+    ckey.clear();
     if (++query == 0) {    // wrapped: clear the marks
       std::fill(mark.begin(), mark.end(), 0u);
       query = 1;
@@ -182,15 +183,23 @@ class TriangleMesh {
         for (int k = ilo[2]; k <= ihi[2]; k++) {
           const int c = (i * dims[1] + j) * dims[2] + k;
           for (int m = cstart[c]; m < cstart[c + 1]; m++) {
-            const int t = ctris[m];
+            // the distance to the triangle's plane bounds the distance to the triangle: most
+            // entries end here, so first, from the entry's own copy of a corner and the normal
+            // (no lookups through the triangle; a triangle out of reach is out of reach in
+            // every cell, so testing it before the mark keeps the order it is found in)
+            const Entry &e = ctris[m];
+            if (std::fabs(dot(sub(x, e.a), e.n)) >= s) continue;
+            const int t = e.t;
             if (mark[t] == query) continue;
             mark[t] = query;
-            // the distance to the triangle's plane bounds the distance to the triangle
-            if (std::fabs(dot(sub(x, verts[tv[t][0]]), tn[t])) >= s) continue;
             const Hit h = closest(t, x);
-            if (h.dist < s) cand.push_back(h);
+            if (h.dist < s) {
+              cand.push_back(h);
+              ckey.push_back(0);
+            }
           }
         }
+    if (cand.size() > 1) in_plane_order(ilo, ihi);
     const double eps = 1e-9 * s;
     for (const Hit &h : cand) {
       if (h.feature != FACE && !in_voronoi(h, x, eps)) continue;
@@ -271,15 +280,86 @@ class TriangleMesh {
   // the bin grid
   double h = 1.0;
   int dims[3] = {1, 1, 1};
-  std::vector<int> cstart, ctris;
+  /// A bin's entry: the triangle, a copy of its first corner and its unit normal (its plane).
+  struct Entry {
+    Vec a, n;
+    int t;
+  };
+  std::vector<int> cstart;
+  std::vector<Entry> ctris;
   mutable std::vector<uint32_t> mark;
   mutable uint32_t query = 0;
   mutable std::vector<Hit> cand;
+  mutable std::vector<long> ckey;
+  std::vector<std::array<int, 6>> span;    // triangle -> its bounding box's cells (lo, hi)
 
   int cell_index(int d, double v) const
   {
     const int i = static_cast<int>(std::floor((v - bblo[d]) / h));
     return std::min(std::max(i, 0), dims[d] - 1);
+  }
+
+  /// Does triangle t's plane cross cell (i, j, k) (its centre within half a cell's extent
+  /// along the normal, with a margin for rounding)?
+  bool plane_crosses(int t, int i, int j, int k) const
+  {
+    const Vec &n = tn[t], &a = verts[tv[t][0]];
+    const double reach = 0.5 * h * (std::fabs(n[0]) + std::fabs(n[1]) + std::fabs(n[2]));
+    const Vec centre{bblo[0] + (i + 0.5) * h, bblo[1] + (j + 0.5) * h, bblo[2] + (k + 0.5) * h};
+    return std::fabs(dot(sub(centre, a), n)) <= reach * (1.0 + 1e-9) + 1e-12 * h;
+  }
+
+  /// Does triangle t overlap cell (i, j, k), grown by a margin for rounding?  The separating
+  /// axis test (Akenine-Moeller 2001, "Fast 3D triangle-box overlap testing") on the edges'
+  /// cross products with the cell's axes; the caller has tested the plane (plane_crosses) and
+  /// the cell lies in the triangle's bounding box.
+  bool overlaps(int t, int i, int j, int k) const
+  {
+    const double e = 0.5 * h * (1.0 + 1e-9) + 1e-12 * h;
+    const Vec centre{bblo[0] + (i + 0.5) * h, bblo[1] + (j + 0.5) * h, bblo[2] + (k + 0.5) * h};
+    const Vec v[3] = {sub(verts[tv[t][0]], centre), sub(verts[tv[t][1]], centre),
+                      sub(verts[tv[t][2]], centre)};
+    for (int m = 0; m < 3; m++) {
+      const Vec f = sub(v[(m + 1) % 3], v[m]);
+      for (int d = 0; d < 3; d++) {
+        Vec axis{0.0, 0.0, 0.0};    // unit axis d cross f
+        axis[(d + 1) % 3] = -f[(d + 2) % 3];
+        axis[(d + 2) % 3] = f[(d + 1) % 3];
+        const double p0 = dot(axis, v[0]), p1 = dot(axis, v[1]), p2 = dot(axis, v[2]);
+        const double r = e * (std::fabs(axis[0]) + std::fabs(axis[1]) + std::fabs(axis[2]));
+        const double slack = 1e-9 * (std::fabs(p0) + std::fabs(p1) + std::fabs(p2) + r);
+        if (std::min({p0, p1, p2}) > r + slack || std::max({p0, p1, p2}) < -r - slack)
+          return false;
+      }
+    }
+    return true;
+  }
+
+  /// The candidates in the order a grid listing every triangle in each cell of its bounding
+  /// box that its plane crosses would find them (cell by cell, each cell's triangles by
+  /// index): the order the contacts' forces are summed in, kept as it was before the cells
+  /// listed only the triangles that overlap them.
+  void in_plane_order(const int *ilo, const int *ihi) const
+  {
+    const long big = static_cast<long>(dims[0]) * dims[1] * dims[2];
+    for (size_t q = 0; q < cand.size(); q++) {
+      const int t = cand[q].tri;
+      const auto &r = span[t];
+      long first = big;
+      for (int i = std::max(ilo[0], r[0]); i <= std::min(ihi[0], r[3]) && first == big; i++)
+        for (int j = std::max(ilo[1], r[1]); j <= std::min(ihi[1], r[4]) && first == big; j++)
+          for (int k = std::max(ilo[2], r[2]); k <= std::min(ihi[2], r[5]); k++)
+            if (plane_crosses(t, i, j, k)) {
+              first = (static_cast<long>(i) * dims[1] + j) * dims[2] + k;
+              break;
+            }
+      ckey[q] = first * (static_cast<long>(tv.size()) + 1) + t;
+    }
+    for (size_t q = 1; q < cand.size(); q++)    // insertion sort: a few candidates
+      for (size_t p = q; p > 0 && ckey[p - 1] > ckey[p]; p--) {
+        std::swap(ckey[p - 1], ckey[p]);
+        std::swap(cand[p - 1], cand[p]);
+      }
   }
 
   /// Is an edge or vertex point h of the Voronoi region of its feature: does every triangle
@@ -498,7 +578,7 @@ class TriangleMesh {
       h *= 1.5;
     }
     const int ncell = dims[0] * dims[1] * dims[2];
-    std::vector<std::array<int, 6>> span(tv.size());
+    span.assign(tv.size(), {0, 0, 0, 0, 0, 0});
     cstart.assign(ncell + 1, 0);
     for (int pass = 0; pass < 2; pass++) {
       std::vector<int> fill(cstart.begin(), cstart.end() - 1);
@@ -514,24 +594,23 @@ class TriangleMesh {
             r[d] = cell_index(d, a);
             r[3 + d] = cell_index(d, b);
           }
-        // only the cells of its bounding box that its plane crosses (a long slanted
-        // triangle's box holds many cells it never comes near)
+        // only the cells of its bounding box that it overlaps (a long slanted triangle's box
+        // holds many cells it never comes near, and its plane crosses many of them)
         const Vec &n = tn[t], &a = verts[tv[t][0]];
-        const double reach = 0.5 * h * (std::fabs(n[0]) + std::fabs(n[1]) + std::fabs(n[2]));
         for (int i = r[0]; i <= r[3]; i++)
           for (int j = r[1]; j <= r[4]; j++)
             for (int k = r[2]; k <= r[5]; k++) {
-              const Vec centre{bblo[0] + (i + 0.5) * h, bblo[1] + (j + 0.5) * h,
-                               bblo[2] + (k + 0.5) * h};
-              if (std::fabs(dot(sub(centre, a), n)) > reach * (1.0 + 1e-9) + 1e-12 * h) continue;
+              if (!plane_crosses(static_cast<int>(t), i, j, k) ||
+                  !overlaps(static_cast<int>(t), i, j, k))
+                continue;
               const int c = (i * dims[1] + j) * dims[2] + k;
               if (pass == 0) cstart[c + 1]++;
-              else ctris[fill[c]++] = static_cast<int>(t);
+              else ctris[fill[c]++] = Entry{a, n, static_cast<int>(t)};
             }
       }
       if (pass == 0) {
         for (int c = 0; c < ncell; c++) cstart[c + 1] += cstart[c];
-        ctris.assign(cstart.back(), 0);
+        ctris.assign(cstart.back(), Entry{});
       }
     }
     mark.assign(tv.size(), 0u);
