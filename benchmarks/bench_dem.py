@@ -45,7 +45,7 @@ gravity, the hopper once as ``fix viscontact/wall mesh`` (an STL cone of 64 face
 triangles) and once as ``fix viscontact/wall region`` (LAMMPS's analytic ``region cone``),
 the same spheres from the same lattice, the same law (LH with friction).  Figure: loop time
 per particle-step of each (best of --repeat, after a warm-up), and their ratio.
-Target: mesh / region <= 1.3 (measured 1.20: 0.115 against 0.096 us per particle-step,
+Target: mesh / region <= 1.3 (measured 1.22-1.23: 0.118-0.119 against 0.097 us per particle-step,
 --repeat 5, quiet machine; 1.37 before the mesh's cells listed only the triangles overlapping
 them).
 """

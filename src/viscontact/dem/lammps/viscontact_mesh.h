@@ -167,7 +167,6 @@ class TriangleMesh {
   {
     out.clear();
     cand.clear();
-    ckey.clear();
     if (++query == 0) {    // wrapped: clear the marks
       std::fill(mark.begin(), mark.end(), 0u);
       query = 1;
@@ -185,21 +184,20 @@ class TriangleMesh {
           for (int m = cstart[c]; m < cstart[c + 1]; m++) {
             // the distance to the triangle's plane bounds the distance to the triangle: most
             // entries end here, so first, from the entry's own copy of a corner and the normal
-            // (no lookups through the triangle; a triangle out of reach is out of reach in
-            // every cell, so testing it before the mark keeps the order it is found in)
+            // (no lookups through the triangle)
             const Entry &e = ctris[m];
             if (std::fabs(dot(sub(x, e.a), e.n)) >= s) continue;
             const int t = e.t;
             if (mark[t] == query) continue;
             mark[t] = query;
             const Hit h = closest(t, x);
-            if (h.dist < s) {
-              cand.push_back(h);
-              ckey.push_back(0);
-            }
+            if (h.dist < s) cand.push_back(h);
           }
         }
-    if (cand.size() > 1) in_plane_order(ilo, ihi);
+    // in triangle order, whichever cells found them: the forces' summation order is the
+    // mesh's, not the grid's
+    if (cand.size() > 1)
+      std::sort(cand.begin(), cand.end(), [](const Hit &a, const Hit &b) { return a.tri < b.tri; });
     const double eps = 1e-9 * s;
     for (const Hit &h : cand) {
       if (h.feature != FACE && !in_voronoi(h, x, eps)) continue;
@@ -290,8 +288,6 @@ class TriangleMesh {
   mutable std::vector<uint32_t> mark;
   mutable uint32_t query = 0;
   mutable std::vector<Hit> cand;
-  mutable std::vector<long> ckey;
-  std::vector<std::array<int, 6>> span;    // triangle -> its bounding box's cells (lo, hi)
 
   int cell_index(int d, double v) const
   {
@@ -333,33 +329,6 @@ class TriangleMesh {
       }
     }
     return true;
-  }
-
-  /// The candidates in the order a grid listing every triangle in each cell of its bounding
-  /// box that its plane crosses would find them (cell by cell, each cell's triangles by
-  /// index): the order the contacts' forces are summed in, kept as it was before the cells
-  /// listed only the triangles that overlap them.
-  void in_plane_order(const int *ilo, const int *ihi) const
-  {
-    const long big = static_cast<long>(dims[0]) * dims[1] * dims[2];
-    for (size_t q = 0; q < cand.size(); q++) {
-      const int t = cand[q].tri;
-      const auto &r = span[t];
-      long first = big;
-      for (int i = std::max(ilo[0], r[0]); i <= std::min(ihi[0], r[3]) && first == big; i++)
-        for (int j = std::max(ilo[1], r[1]); j <= std::min(ihi[1], r[4]) && first == big; j++)
-          for (int k = std::max(ilo[2], r[2]); k <= std::min(ihi[2], r[5]); k++)
-            if (plane_crosses(t, i, j, k)) {
-              first = (static_cast<long>(i) * dims[1] + j) * dims[2] + k;
-              break;
-            }
-      ckey[q] = first * (static_cast<long>(tv.size()) + 1) + t;
-    }
-    for (size_t q = 1; q < cand.size(); q++)    // insertion sort: a few candidates
-      for (size_t p = q; p > 0 && ckey[p - 1] > ckey[p]; p--) {
-        std::swap(ckey[p - 1], ckey[p]);
-        std::swap(cand[p - 1], cand[p]);
-      }
   }
 
   /// Is an edge or vertex point h of the Voronoi region of its feature: does every triangle
@@ -578,7 +547,7 @@ class TriangleMesh {
       h *= 1.5;
     }
     const int ncell = dims[0] * dims[1] * dims[2];
-    span.assign(tv.size(), {0, 0, 0, 0, 0, 0});
+    std::vector<std::array<int, 6>> span(tv.size());
     cstart.assign(ncell + 1, 0);
     for (int pass = 0; pass < 2; pass++) {
       std::vector<int> fill(cstart.begin(), cstart.end() - 1);
