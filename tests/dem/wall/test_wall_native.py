@@ -128,6 +128,21 @@ GEOMETRIES = {
                      "region c cylinder z 0 0 0.05 -0.1 0.1 side in rotate v_th 0.001 0 0 0 0 1"],
         [_pressed((0.05 - R + 1e-5, 0.0, 0.0)),
          _pressed((0.01, -(0.05 - R + 2e-5), 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))]),
+    # the drum's case: open ends (Region::surface() asks the faces from outside and inside)
+    "region rotate open": (
+        "region c", ["variable th equal 2*PI*elapsed*dt/0.5",
+                     "region c cylinder z 0 0 0.05 -0.1 0.1 side in open 1 open 2 "
+                     "rotate v_th 0.001 0 0 0 0 1"],
+        [_pressed((0.05 - R + 1e-5, 0.0, 0.0)),
+         _pressed((0.01, -(0.05 - R + 2e-5), 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))]),
+    # both motions, about a tilted axis through an off-centre point: the transform's every term
+    "region move rotate": (
+        "region c", ["variable dx equal 2e-5*sin(2*PI*elapsed*dt/0.001)",
+                     "variable th equal 2*PI*elapsed*dt/0.5",
+                     "region c sphere 0 0 0 0.05 side in move v_dx NULL NULL "
+                     "rotate v_th 0.003 0.001 0 0.3 0.2 1"],
+        [_pressed((0.05 - R + 2e-5, 0.0, 0.0)),
+         _pressed((0.0, -(0.05 - R + 1e-5), 0.0), (0.0, -0.1, 0.2), (1.0, 0.0, 0.0))]),
     "zplane wiggle z": ("zplane -0.1 0.1 wiggle z 2e-5 0.001", [], PLANES),
     "zplane wiggle x": ("zplane -0.1 0.1 wiggle x 2e-5 0.001", [], PLANES),
     "zplane shear x": ("zplane -0.1 0.1 shear x 0.5", [], PLANES),

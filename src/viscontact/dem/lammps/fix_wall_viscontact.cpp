@@ -454,7 +454,7 @@ void FixWallViscontact::find_touches(int i, double wlo, double whi, const double
   } else if (wallstyle == MESH) {
     mesh_touches(i);
   } else {
-    const int nc = region->surface(x[0], x[1], x[2], rad);
+    const int nc = region_surface(x, rad);
     if (nc > tmax)
       error->one(FLERR, std::string(PREFIX) + "atom " + std::to_string(atom->tag[i]) +
                             " touches " + std::to_string(nc) + " faces of region " + idregion +
@@ -479,7 +479,9 @@ void FixWallViscontact::find_touches(int i, double wlo, double whi, const double
         for (int d = 0; d < 3; d++) c.vwall[d] = region->moveflag ? region->v[d] : 0.0;
         region->velocity_contact_shape(c.vwall, xc);
       } else if (moving) {
-        region->velocity_contact(c.vwall, atom->x[i], ic);
+        double xc[3] = {x[0] - rc.delx, x[1] - rc.dely, x[2] - rc.delz};
+        frame.velocity(xc, c.vwall);
+        if (region->varshape && rc.varflag) region->velocity_contact_shape(c.vwall, xc);
       } else {
         c.vwall[0] = c.vwall[1] = c.vwall[2] = 0.0;
       }
@@ -598,6 +600,7 @@ void FixWallViscontact::post_force(int /*vflag*/)
     region->prematch();
     region->set_velocity();
   }
+  if (region) frame.refresh(*region);
   if (meshwall) mesh_step();
   if (peratom_flag)
     for (int i = 0; i < nlocal; i++)
@@ -611,8 +614,7 @@ void FixWallViscontact::post_force(int /*vflag*/)
     if (!(mask[i] & groupbit)) continue;
     // (a region with an open face matches every point: Region::match() would only transform
     // it, which for a moving region costs a sine and a cosine per atom and step)
-    if (region && !region->openflag &&
-        !region->match(atom->x[i][0], atom->x[i][1], atom->x[i][2])) {
+    if (region && !region->openflag && !region_match(atom->x[i])) {
       // outside: no contact, and no stale history to come back with the atom
       if (nstored[i] != 0) {
         for (int k = 0; k < tmax; k++) goes_on[k] = 0;
@@ -642,11 +644,12 @@ void FixWallViscontact::post_force(int /*vflag*/)
     int nfresh = 0, ngoing = 0;
     for (int t = 0; t < static_cast<int>(touches.size()); t++) {
       const Touch &c = touches[t];
-      double *stored = find_slot(i, nold, c.iwall);
+      const int k = find_slot(i, nold, c.iwall);
+      double *stored = k >= 0 ? slot(i, k) + 1 : nullptr;
       if (!touching(m, c, rad, stored && stored[touch] != 0.0))
         continue;
       if (stored) {
-        goes_on[(stored - 1 - slot(i, 0)) / slotsize] = 1;
+        goes_on[k] = 1;
         ngoing++;
         contact(i, stored, c, update_history, dt, t_now);
       } else {
@@ -674,6 +677,113 @@ void FixWallViscontact::post_force(int /*vflag*/)
   t0_restart = false;    // converted in the first force call after read_restart
 }
 
+namespace {
+/* Region keeps the rotation's point and unit axis protected; a pointer to member formed in a
+   derived class reads them from any Region (never instantiated). */
+struct RegionAxis : Region {
+  static const double *point_of(const Region &r) { return r.*(&RegionAxis::point); }
+  static const double *unit_of(const Region &r) { return r.*(&RegionAxis::runit); }
+};
+
+/* x turned by the angle whose sine and cosine are s, c about the axis along the unit vector u
+   through p (right-hand rule): x = p + C + A c + B s with D = x - p, C = (D.u) u, A = D - C,
+   B = u x A. */
+inline void rotate_about(double x[3], const double p[3], const double u[3], double s, double c)
+{
+  const double d[3] = {x[0] - p[0], x[1] - p[1], x[2] - p[2]};
+  const double along = d[0] * u[0] + d[1] * u[1] + d[2] * u[2];
+  const double cp[3] = {along * u[0], along * u[1], along * u[2]};
+  const double a[3] = {d[0] - cp[0], d[1] - cp[1], d[2] - cp[2]};
+  const double b[3] = {u[1] * a[2] - u[2] * a[1], u[2] * a[0] - u[0] * a[2],
+                       u[0] * a[1] - u[1] * a[0]};
+  for (int k = 0; k < 3; k++) x[k] = p[k] + cp[k] + (a[k] * c + b[k] * s);
+}
+}    // namespace
+
+void FixWallViscontact::RegionFrame::refresh(const Region &r)
+{
+  dynamic = r.dynamic != 0;
+  move = r.moveflag != 0;
+  rotate = r.rotateflag != 0;
+  if (move) {
+    d[0] = r.dx;
+    d[1] = r.dy;
+    d[2] = r.dz;
+  }
+  if (rotate) {
+    for (int k = 0; k < 3; k++) {
+      point[k] = RegionAxis::point_of(r)[k];
+      unit[k] = RegionAxis::unit_of(r)[k];
+    }
+    sin_in = std::sin(-r.theta);
+    cos_in = std::cos(-r.theta);
+    sin_out = std::sin(r.theta);
+    cos_out = std::cos(r.theta);
+  }
+  for (int k = 0; k < 3; k++) {
+    v[k] = r.v[k];
+    omega[k] = r.omega[k];
+    rpoint[k] = r.rpoint[k];
+  }
+}
+
+VISCONTACT_ALWAYS_INLINE void FixWallViscontact::RegionFrame::velocity(const double xc[3], double vw[3]) const
+{
+  for (int k = 0; k < 3; k++) vw[k] = move ? v[k] : 0.0;
+  if (rotate) {    // omega x (xc - rpoint)
+    vw[0] += omega[1] * (xc[2] - rpoint[2]) - omega[2] * (xc[1] - rpoint[1]);
+    vw[1] += omega[2] * (xc[0] - rpoint[0]) - omega[0] * (xc[2] - rpoint[2]);
+    vw[2] += omega[0] * (xc[1] - rpoint[1]) - omega[1] * (xc[0] - rpoint[0]);
+  }
+}
+
+VISCONTACT_ALWAYS_INLINE void FixWallViscontact::RegionFrame::to_region(double x[3]) const
+{
+  if (move)
+    for (int k = 0; k < 3; k++) x[k] -= d[k];
+  if (rotate) rotate_about(x, point, unit, sin_in, cos_in);
+}
+
+VISCONTACT_ALWAYS_INLINE void FixWallViscontact::RegionFrame::to_box(double x[3]) const
+{
+  if (rotate) rotate_about(x, point, unit, sin_out, cos_out);
+  if (move)
+    for (int k = 0; k < 3; k++) x[k] += d[k];
+}
+
+/* Region::match(x) with this step's frame: inside (or outside, for `side out`) the region. */
+bool FixWallViscontact::region_match(const double *x)
+{
+  if (!frame.dynamic) return region->match(x[0], x[1], x[2]) != 0;
+  double xr[3] = {x[0], x[1], x[2]};
+  frame.to_region(xr);
+  return !(region->inside(xr[0], xr[1], xr[2]) ^ region->interior);
+}
+
+/* Region::surface(x, cutoff) with this step's frame: the region's faces within cutoff of x,
+   in region->contact[], their vectors to x in the box's frame. */
+int FixWallViscontact::region_surface(const double *x, double cutoff)
+{
+  if (!frame.dynamic) return region->surface(x[0], x[1], x[2], cutoff);
+  double xnear[3] = {x[0], x[1], x[2]};
+  frame.to_region(xnear);
+  // with an open face a point may touch faces from outside or inside, never both
+  const int nc = !region->openflag
+      ? (region->interior ? region->surface_interior(xnear, cutoff)
+                          : region->surface_exterior(xnear, cutoff))
+      : region->surface_exterior(xnear, cutoff) + region->surface_interior(xnear, cutoff);
+  if (frame.rotate)
+    for (int ic = 0; ic < nc; ic++) {
+      auto &rc = region->contact[ic];
+      double xs[3] = {xnear[0] - rc.delx, xnear[1] - rc.dely, xnear[2] - rc.delz};
+      frame.to_box(xs);
+      rc.delx = x[0] - xs[0];
+      rc.dely = x[1] - xs[1];
+      rc.delz = x[2] - xs[2];
+    }
+  return nc;
+}
+
 /* Does face c touch the sphere of radius rad (ContactModel::touching)?  R* (a division) only
    where it matters: a jkr contact that existed at the last step holds on to its pull-off
    distance. */
@@ -685,15 +795,12 @@ bool FixWallViscontact::touching(const viscontact::ContactModel &m, const Touch 
   return c.r * c.r < rad * rad;
 }
 
-/* The stored contact of atom i with face iwall among its first nold (its history, after the
-   face index), or nullptr. */
-double *FixWallViscontact::find_slot(int i, int nold, int iwall)
+/* The slot of atom i's stored contact with face iwall among its first nold, or -1. */
+int FixWallViscontact::find_slot(int i, int nold, int iwall)
 {
-  for (int k = 0; k < nold; k++) {
-    double *s = slot(i, k);
-    if (static_cast<int>(s[0]) == iwall) return s + 1;
-  }
-  return nullptr;
+  for (int k = 0; k < nold; k++)
+    if (static_cast<int>(slot(i, k)[0]) == iwall) return k;
+  return -1;
 }
 
 /* The stored contacts of atom i whose goes_on flag is 0 end now (all of them for goes_on

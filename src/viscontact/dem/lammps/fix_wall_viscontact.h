@@ -22,8 +22,11 @@
      signed curvature radius (0 flat, < 0 concave).  More contacts than the region allows
      (Region::tmax) is an error.  Spheres outside the region are skipped and their wall history
      cleared.  The wall velocity at a contact is the region's: Region::prematch(),
-     set_velocity() once per step, velocity_contact() per contact (translation over the last
-     step / dt, rotation omega x (x_c - point), variable shapes); zero for a static region.
+     set_velocity() once per step, then Region::velocity_contact()'s formula per contact
+     (translation over the last step / dt, rotation omega x (x_c - point), variable shapes);
+     zero for a static region.  A moving region's transform (Region::match() and surface()
+     take a sine and a cosine of its angle per point) is done here with the sine and cosine
+     taken once per step (RegionFrame): the same arithmetic, the same doubles.
    - wiggle DIM A PERIOD: the wall oscillates along DIM; a plane normal to DIM sits at
      LO/HI + A (1 - cos(w t)), w = 2 pi/PERIOD, t = (step - step the fix was defined) dt; the
      wall velocity along DIM is A w sin(w t).  zcylinder: DIM z only.
@@ -160,10 +163,31 @@ class FixWallViscontact : public Fix, public viscontact::EnergySource {
   int *nstored;                // per atom: its stored contacts (store[i][0], compact: the
                                // atoms away from the wall do not touch their store rows)
   bool region_moving = false;  // the region's dynamic_check() this step
+
+  /// A moving region's placement this step (Region::dx dy dz, theta about the axis through
+  /// its point): Region::match() and surface() take a sine and a cosine of theta for every
+  /// point they transform; here they are taken once per step (refresh) and every point of
+  /// the step reuses them.  The arithmetic is Region's rotation (Rodrigues' formula about the
+  /// axis, around the unmoved point, then the displacement), in the same order: the same
+  /// doubles as Region's own transforms.
+  struct RegionFrame {
+    bool dynamic = false, move = false, rotate = false;
+    double d[3], point[3], unit[3];
+    double sin_in, cos_in, sin_out, cos_out;    // of -theta (into the region), +theta
+    double v[3], omega[3], rpoint[3];           // Region::set_velocity()'s, this step
+    void refresh(const class Region &r);
+    void to_region(double x[3]) const;          // undisplace, then unrotate
+    void to_box(double x[3]) const;             // rotate, then displace
+    // Region::velocity_contact(): the wall's velocity at the contact point xc
+    void velocity(const double xc[3], double vw[3]) const;
+  };
+  RegionFrame frame;
+  int region_surface(const double *x, double cutoff);
+  bool region_match(const double *x);
   bool t0_restart = false;     // a format-2 restart: the stored Jian slots hold t0 (restart())
   std::vector<char> goes_on;   // per stored contact of one atom: touched again this step
   std::vector<int> fresh;      // this step's touches that are new contacts
-  double *find_slot(int i, int nold, int iwall);
+  int find_slot(int i, int nold, int iwall);
 
   // energy (compute viscontact/energy): cumulative dissipation (migrates, restart) and the
   // elastic energy of the last force computation, NDISS and NELASTIC per atom
