@@ -176,8 +176,8 @@ class FixWallViscontact : public Fix, public viscontact::EnergySource {
     double sin_in, cos_in, sin_out, cos_out;    // of -theta (into the region), +theta
     double v[3], omega[3], rpoint[3];           // Region::set_velocity()'s, this step
     void refresh(const class Region &r);
-    void to_region(double x[3]) const;          // undisplace, then unrotate
-    void to_box(double x[3]) const;             // rotate, then displace
+    void to_region(double &x, double &y, double &z) const;    // undisplace, then unrotate
+    void to_box(double &x, double &y, double &z) const;       // rotate, then displace
     // Region::velocity_contact(): the wall's velocity at the contact point xc
     void velocity(const double xc[3], double vw[3]) const;
   };

@@ -42,6 +42,13 @@
 #define VISCONTACT_ALWAYS_INLINE inline
 #define VISCONTACT_INLINE_LAMBDA
 #endif
+/// A function whose loads of freshly stored doubles GCC's SLP vectorizer would pair into one
+/// 16-byte load (not forwardable from two 8-byte stores: a stall of the store's retirement).
+#if defined(__GNUC__) && !defined(__clang__)
+#define VISCONTACT_NO_SLP __attribute__((optimize("no-tree-slp-vectorize")))
+#else
+#define VISCONTACT_NO_SLP
+#endif
 
 namespace viscontact {
 
