@@ -191,30 +191,55 @@ def _measure(res, t_plug: float, mass: float, law: str, D: float, rho_b: float, 
     return (law, D, w, w1, w2, (t0, t1), rho_b, n0 * mass)
 
 
-def table(silo_rows: list, hopper_rows: list, dp: float, hp: float) -> list[str]:
-    """Markdown: the silo table, the fitted exponents, the hopper comparison."""
-    lines = [f"silo (in.mesh.silo, d = {dp * 1000:g} mm): W against Beverloo W_B = C rho_b "
-             f"sqrt(g) (D - {K} d)^(5/2), C = {C_BEV}, rho_b measured", "",
-             "| law | D [mm] | rho_b [kg/m^3] | W [kg/s] | fit over [s] | W halves [kg/s] | W_B [kg/s] | C fitted |",
-             "|---|---|---|---|---|---|---|---|"]
+def joint_fit(rows: list, dp: float) -> tuple[float, float]:
+    """(C, k) of Beverloo's correlation fitted together: W^(2/5) = (C rho_b sqrt(g))^(2/5)
+    (D - k d) is a straight line against D (least squares over the rows of :func:`_measure`,
+    rho_b their mean): its slope a = (C rho_b sqrt(g))^(2/5), its intercept -a k d."""
+    x = np.array([r[1] for r in rows])
+    a, b = np.polyfit(x, np.array([r[2] for r in rows]) ** 0.4, 1)
+    rho = float(np.mean([r[6] for r in rows]))
+    return float(a ** 2.5 / (rho * math.sqrt(G))), float(-b / (a * dp))
+
+
+def exponent(rows: list, dp: float) -> float:
+    """The least-squares slope of log W against log(D - k d), k = 1.5."""
+    return float(np.polyfit(np.log([r[1] - K * dp for r in rows]), np.log([r[2] for r in rows]),
+                            1)[0])
+
+
+def silo_table(rows: list, dp: float, title: str) -> tuple[list[str], dict[str, float]]:
+    """Markdown lines of the silo runs (rows of :func:`_measure`): per law and D, W against
+    Beverloo with C = 0.58 and the fitted C; per law the exponent, the mean C and the joint fit
+    of C and k.  Also the law's mean fitted C."""
+    lines = [f"{title} (d = {dp * 1000:g} mm): W against Beverloo W_B = C rho_b sqrt(g) "
+             f"(D - {K} d)^(5/2), C = {C_BEV}, rho_b measured", "",
+             "| law | D [mm] | D/d | rho_b [kg/m^3] | W [kg/s] | fit over [s] | W halves [kg/s] | "
+             "W_B [kg/s] | C fitted |",
+             "|---|---|---|---|---|---|---|---|---|"]
     c_mean = {}
-    for law in dict.fromkeys(r[0] for r in silo_rows):
-        rows = [r for r in silo_rows if r[0] == law]
+    for law in dict.fromkeys(r[0] for r in rows):
         cs = []
-        for _, D, w, w1, w2, win, rho, _ in rows:
+        for _, D, w, w1, w2, win, rho, _ in (r for r in rows if r[0] == law):
             wb = beverloo(rho, D, dp)
             cs.append(C_BEV * w / wb)
-            lines.append(f"| {law} | {D * 1000:g} | {rho:.0f} | {w:.4f} | {win[0]:.2f}-{win[1]:.2f} | "
-                         f"{w1:.4f} / {w2:.4f} | {wb:.4f} | {cs[-1]:.3f} |")
+            lines.append(f"| {law} | {D * 1000:g} | {D / dp:.3g} | {rho:.0f} | {w:.4f} | "
+                         f"{win[0]:.2f}-{win[1]:.2f} | {w1:.4f} / {w2:.4f} | {wb:.4f} | "
+                         f"{cs[-1]:.3f} |")
         c_mean[law] = float(np.mean(cs))
     lines.append("")
     for law in c_mean:
-        rows = [r for r in silo_rows if r[0] == law]
-        if len(rows) >= 2:
-            x = np.log([D - K * dp for _, D, *_ in rows])
-            y = np.log([r[2] for r in rows])
-            lines.append(f"{law}: W ~ (D - {K} d)^{np.polyfit(x, y, 1)[0]:.2f} (Beverloo 2.5), "
-                         f"mean C fitted {c_mean[law]:.3f}")
+        lr = [r for r in rows if r[0] == law]
+        if len(lr) >= 2:
+            c, k = joint_fit(lr, dp)
+            lines.append(f"{law}: W ~ (D - {K} d)^{exponent(lr, dp):.2f} (Beverloo 2.5), mean C "
+                         f"fitted {c_mean[law]:.3f}; C and k fitted together: C = {c:.3f}, "
+                         f"k = {k:.2f}")
+    return lines, c_mean
+
+
+def table(silo_rows: list, hopper_rows: list, dp: float, hp: float) -> list[str]:
+    """Markdown: the silo table, the fitted exponents, the hopper comparison."""
+    lines, c_mean = silo_table(silo_rows, dp, "silo (in.mesh.silo)")
     if hopper_rows:
         theta = math.degrees(math.atan((HOPPER["radius"] - HOPPER["outlet"]) / HOPPER["height"]))
         f = rose_tanaka(theta)
