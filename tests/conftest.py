@@ -69,6 +69,26 @@ def pytest_cmdline_main(config):
         opt.numprocesses, opt.dist = workers, "loadgroup"
 
 
+class _GroupsToWorkers:
+    """xdist starts its workers from the command line, not from the options changed above: a
+    worker would not know the run is ``loadgroup``, would not name its tests' groups, and the
+    controller would then spread a group's tests (and build a shared fixture once per worker,
+    the two at once).  The controller tells each worker."""
+
+    @staticmethod
+    def pytest_configure_node(node):
+        if node.config.option.dist == "loadgroup":
+            node.workerinput["viscontact_loadgroup"] = True
+
+
+def pytest_configure(config):
+    if hasattr(config, "workerinput"):
+        if config.workerinput.get("viscontact_loadgroup"):
+            config.option.loadgroup = True    # xdist's worker names the groups from this
+    elif config.pluginmanager.hasplugin("xdist"):
+        config.pluginmanager.register(_GroupsToWorkers(), "viscontact-groups-to-workers")
+
+
 def _worker() -> str | None:
     """This process's xdist worker id (gw0, ...), or None when the session runs alone."""
     return os.environ.get("PYTEST_XDIST_WORKER")
