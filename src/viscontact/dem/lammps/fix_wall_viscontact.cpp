@@ -474,15 +474,11 @@ VISCONTACT_NO_SLP void FixWallViscontact::find_touches(int i, double wlo, double
       c.n[1] = rc.dely * rinv;
       c.n[2] = rc.delz * rinv;
       c.rwall = rc.radius;
-      if (moving && region->varshape && rc.varflag && !region->rotateflag) {
-        // a face whose size changes in time on a region that does not rotate: the region's
-        // translation plus the shape's rate of change at the contact point xc.
-        // Region::velocity_contact() sets xc only for a rotating region but hands it to the
-        // shape term in any case (native fix wall/gran/region then gets no shape velocity).
-        double xc[3] = {x[0] - rc.delx, x[1] - rc.dely, x[2] - rc.delz};
-        for (int d = 0; d < 3; d++) c.vwall[d] = region->moveflag ? region->v[d] : 0.0;
-        region->velocity_contact_shape(c.vwall, xc);
-      } else if (moving) {
+      if (moving) {
+        // translation, rotation, then a face whose size changes in time: the shape's rate of
+        // change at the contact point xc, for every such region.  (Region::velocity_contact()
+        // sets xc only for a rotating region but hands it to the shape term in any case:
+        // native fix wall/gran/region gets no shape velocity on a region that does not rotate.)
         double xc[3] = {x[0] - rc.delx, x[1] - rc.dely, x[2] - rc.delz};
         frame.velocity(xc, c.vwall);
         if (region->varshape && rc.varflag) region->velocity_contact_shape(c.vwall, xc);
