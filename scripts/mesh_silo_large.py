@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from mesh_silo_study import DT, _fill, _measure, bulk_density, silo_table  # noqa: E402
+from mesh_silo_study import DT, _fill, _measure, bulk_density, runs_csv, silo_table  # noqa: E402
 from mesh_study_util import add_common, open_out, run, workdir, write_mesh  # noqa: E402
 
 from viscontact.dem import read_dump  # noqa: E402
@@ -117,11 +117,7 @@ def main(argv: list[str] | None = None) -> int:
                                      f"large-{D * 1000:g}mm-{law}"))
         lines, _ = silo_table(rows, DP, f"large silo (R = {RADIUS * 100:g} cm, one fill, {law0})")
         (out.staging / "table.md").write_text("\n".join(lines) + "\n")
-        (out.staging / "runs.csv").write_text(
-            "law,D_m,D_over_d,W_kg_s,W_first_half,W_second_half,window_from_s,window_to_s,"
-            "rho_b,bed_kg\n"
-            + "".join(f"{r[0]},{r[1]},{r[1] / DP:.4g},{r[2]:.6g},{r[3]:.6g},{r[4]:.6g},"
-                      f"{r[5][0]:.3f},{r[5][1]:.3f},{r[6]:.1f},{r[7]:.6g}\n" for r in rows))
+        (out.staging / "runs.csv").write_text(runs_csv([("silo-large", rows, DP)]))
     print("\n".join(lines))
     return 0
 

@@ -168,11 +168,7 @@ def main(argv: list[str] | None = None) -> int:
         lines = table(silo_rows, hopper_rows, dp, 0.004)
         (out.staging / "table.md").write_text("\n".join(lines) + "\n")
         (out.staging / "runs.csv").write_text(
-            "container,law,D_m,W_kg_s,W_first_half,W_second_half,window_from_s,window_to_s,rho_b,"
-            "bed_kg\n"
-            + "".join(f"{c},{r[0]},{r[1]},{r[2]:.6g},{r[3]:.6g},{r[4]:.6g},{r[5][0]:.3f},"
-                      f"{r[5][1]:.3f},{r[6]:.1f},{r[7]:.6g}\n"
-                for c, rows in (("silo", silo_rows), ("hopper", hopper_rows)) for r in rows))
+            runs_csv([("silo", silo_rows, dp), ("hopper", hopper_rows, 0.004)]))
     print("\n".join(lines))
     return 0
 
@@ -189,6 +185,16 @@ def _measure(res, t_plug: float, mass: float, law: str, D: float, rho_b: float, 
           f"{w2:.4f}), rho_b = {rho_b:.0f} kg/m^3, lost at the end {lost[-1] / (n0 * mass):.0%}",
           file=sys.stderr)
     return (law, D, w, w1, w2, (t0, t1), rho_b, n0 * mass)
+
+
+def runs_csv(groups: list[tuple[str, list, float]]) -> str:
+    """CSV of the runs (rows of :func:`_measure`): groups of (container's name, its rows, its
+    sphere diameter [m])."""
+    return ("container,law,D_m,D_over_d,W_kg_s,W_first_half,W_second_half,window_from_s,"
+            "window_to_s,rho_b,bed_kg\n"
+            + "".join(f"{c},{r[0]},{r[1]},{r[1] / dp:.4g},{r[2]:.6g},{r[3]:.6g},{r[4]:.6g},"
+                      f"{r[5][0]:.3f},{r[5][1]:.3f},{r[6]:.1f},{r[7]:.6g}\n"
+                      for c, rows, dp in groups for r in rows))
 
 
 def joint_fit(rows: list, dp: float) -> tuple[float, float]:

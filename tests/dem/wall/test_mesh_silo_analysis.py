@@ -81,3 +81,11 @@ def test_large_study_defaults():
     args = large.parse([])
     assert args.orifices == [0.024, 0.030, 0.036] and args.laws == ["KK"] and args.np == 1
     assert large.parse(["--orifices", "0.018", "0.024"]).orifices == [0.018, 0.024]   # 6 d
+
+
+def test_runs_csv_has_a_row_per_run_with_its_d_over_d():
+    rows = _rows(0.6, 1.5, [1550.0] * 2, [0.024, 0.030])
+    text = study.runs_csv([("silo", rows, DP), ("hopper", rows[:1], 0.004)])
+    lines = text.splitlines()
+    assert lines[0].startswith("container,law,D_m,D_over_d,") and len(lines) == 4
+    assert lines[1].split(",")[3] == "8" and lines[3].split(",")[3] == "6"
